@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @file penumbraScene.h
+ * @brief The scene model of the Penumbra core: planar polygonal surfaces that
+ * emit and reflect diffusely on their front side and occlude from both sides.
+ *
+ * A Scene is what every stage of the pipeline reads. It mirrors the data
+ * contract of the VTK filters (one polygon cell = one surface, cell arrays
+ * `Reflectance` and `Emission`) without any VTK type.
+ */
+#ifndef penumbraScene_h
+#define penumbraScene_h
+
+#include "penumbraCoreModule.h" // for export macro
+#include "penumbraVector.h"
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace penumbra
+{
+
+/**
+ * Thrown for input that does not follow the data contract. The message names
+ * the offending cell, array, line or setting and says what is wrong with it.
+ */
+class PENUMBRACORE_EXPORT InputError : public std::runtime_error
+{
+public:
+  explicit InputError(const std::string& message)
+    : std::runtime_error(message)
+  {
+  }
+};
+
+/// One planar polygon of the scene, with its material.
+struct Surface
+{
+  /// Vertices, counter-clockwise seen from the front (right-hand-rule normal).
+  std::vector<Vec3> Vertices;
+  /// Diffuse (hemispherical) reflectance per channel, each in [0, 1).
+  RGB Reflectance;
+  /// Emitted radiance L^e per channel, W sr^-1 m^-2, each >= 0.
+  RGB Emission;
+};
+
+/// Derived geometry of a planar polygon.
+struct PolygonGeometry
+{
+  Vec3 Normal;           ///< unit front normal
+  double Offset = 0.0;   ///< plane: Dot(Normal, x) == Offset
+  double Area = 0.0;     ///< area in squared scene units
+  Vec3 Centroid;         ///< area centroid
+  double Diameter = 0.0; ///< largest vertex-to-vertex distance
+};
+
+/// Geometry of a polygon from its vertices (Newell normal). Area is 0 for a
+/// degenerate polygon, in which case Normal is the zero vector.
+PENUMBRACORE_EXPORT PolygonGeometry ComputePolygonGeometry(const std::vector<Vec3>& vertices);
+
+/// A collection of surfaces; surface i corresponds to input cell i.
+struct Scene
+{
+  std::vector<Surface> Surfaces;
+
+  /// Largest extent of the bounding box (0 for an empty scene).
+  PENUMBRACORE_EXPORT double Size() const;
+  /// Total emitted power pi * sum(L^e * A) per channel, in watts.
+  PENUMBRACORE_EXPORT RGB EmittedPower() const;
+};
+
+/// Tolerances used by ValidateScene, relative to the polygon's diameter.
+struct ValidationTolerances
+{
+  /// Largest allowed distance of a vertex from the polygon's plane.
+  double Planarity = 1e-6;
+  /// Smallest allowed edge length and polygon width.
+  double Degeneracy = 1e-9;
+};
+
+/**
+ * Check a scene against the data contract. Throws InputError naming the first
+ * offending cell ("cell 12: ...") for: fewer than three vertices, non-finite
+ * coordinates or material values, repeated or nearly coincident consecutive
+ * vertices, zero area or a sliver narrower than the degeneracy tolerance,
+ * non-planar vertices, self-intersecting outlines, reflectance outside [0, 1),
+ * or negative emission.
+ */
+PENUMBRACORE_EXPORT void ValidateScene(
+  const Scene& scene, const ValidationTolerances& tolerances = ValidationTolerances());
+
+} // namespace penumbra
+
+#endif

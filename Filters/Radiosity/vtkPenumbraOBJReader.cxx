@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkPenumbraOBJReader.h"
+
+#include "vtkPenumbraSceneConversion.h"
+
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkPolyData.h"
+
+#include "penumbraObjReader.h"
+
+vtkStandardNewMacro(vtkPenumbraOBJReader);
+
+vtkPenumbraOBJReader::vtkPenumbraOBJReader()
+{
+  this->SetNumberOfInputPorts(0);
+}
+
+int vtkPenumbraOBJReader::RequestData(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  if (this->FileName.empty())
+  {
+    vtkErrorMacro(<< "FileName is not set");
+    return 0;
+  }
+  try
+  {
+    penumbra::SceneToPolyData(penumbra::ReadObjScene(this->FileName), output);
+  }
+  catch (const penumbra::InputError& e)
+  {
+    output->Initialize();
+    vtkErrorMacro(<< e.what());
+    return 0;
+  }
+  return 1;
+}
+
+void vtkPenumbraOBJReader::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << this->FileName << "\n";
+}

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkPenumbraOBJReader
+ * @brief   Read a Wavefront OBJ + MTL file as a Penumbra scene.
+ *
+ * Every OBJ face becomes one polygon cell, kept as a polygon (not
+ * triangulated), in file order. The face's material (`usemtl`, defined in the
+ * files named by `mtllib`) gives the cell arrays `Reflectance` (from `Kd`) and
+ * `Emission` (from `Ke`, zero if absent). Texture coordinates, normals, groups
+ * and smoothing groups are ignored. A malformed file is an error that names the
+ * file and line; the output is then empty.
+ *
+ * @sa vtkPenumbraSceneSource vtkPenumbraSceneValidator
+ */
+#ifndef vtkPenumbraOBJReader_h
+#define vtkPenumbraOBJReader_h
+
+#include "vtkPenumbraFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <string> // for std::string
+
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraOBJReader : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkPenumbraOBJReader* New();
+  vtkTypeMacro(vtkPenumbraOBJReader, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Path of the .obj file. Default empty (an error when the reader runs).
+   * MTL files are looked up relative to the folder of this file.
+   */
+  vtkSetStdStringFromCharMacro(FileName);
+  vtkGetCharFromStdStringMacro(FileName);
+  ///@}
+
+protected:
+  vtkPenumbraOBJReader();
+  ~vtkPenumbraOBJReader() override = default;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  std::string FileName;
+
+private:
+  vtkPenumbraOBJReader(const vtkPenumbraOBJReader&) = delete;
+  void operator=(const vtkPenumbraOBJReader&) = delete;
+};
+
+#endif

@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkPenumbraSceneConversion.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkNew.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+
+#include <sstream>
+
+namespace penumbra
+{
+namespace
+{
+vtkDataArray* RequireColorArray(vtkPolyData* input, const char* name)
+{
+  vtkDataArray* array = input->GetCellData()->GetArray(name);
+  if (!array)
+  {
+    if (input->GetCellData()->GetAbstractArray(name))
+    {
+      throw InputError(std::string("cell array '") + name + "' is not numeric");
+    }
+    throw InputError(std::string("missing cell array '") + name +
+      "' (3-component RGB per polygon, see the data contract)");
+  }
+  if (array->GetNumberOfComponents() != 3)
+  {
+    std::ostringstream os;
+    os << "cell array '" << name << "' has " << array->GetNumberOfComponents()
+       << " components; it must have 3 (RGB)";
+    throw InputError(os.str());
+  }
+  if (array->GetNumberOfTuples() != input->GetNumberOfCells())
+  {
+    std::ostringstream os;
+    os << "cell array '" << name << "' has " << array->GetNumberOfTuples() << " tuples for "
+       << input->GetNumberOfCells() << " cells";
+    throw InputError(os.str());
+  }
+  return array;
+}
+}
+
+Scene SceneFromPolyData(vtkPolyData* input)
+{
+  Scene scene;
+  if (!input || input->GetNumberOfCells() == 0)
+  {
+    return scene;
+  }
+  const vtkIdType others =
+    input->GetNumberOfVerts() + input->GetNumberOfLines() + input->GetNumberOfStrips();
+  if (others > 0)
+  {
+    std::ostringstream os;
+    os << "the scene has " << input->GetNumberOfVerts() << " vertex, "
+       << input->GetNumberOfLines() << " line and " << input->GetNumberOfStrips()
+       << " strip cells; a scene must contain polygons only (one polygon = one surface)";
+    throw InputError(os.str());
+  }
+  vtkDataArray* reflectance = RequireColorArray(input, "Reflectance");
+  vtkDataArray* emission = RequireColorArray(input, "Emission");
+  vtkPoints* points = input->GetPoints();
+  vtkCellArray* polys = input->GetPolys();
+  scene.Surfaces.resize(static_cast<std::size_t>(polys->GetNumberOfCells()));
+  vtkIdType npts = 0;
+  const vtkIdType* ids = nullptr;
+  auto it = vtk::TakeSmartPointer(polys->NewIterator());
+  vtkIdType cell = 0;
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cell)
+  {
+    it->GetCurrentCell(npts, ids);
+    Surface& s = scene.Surfaces[static_cast<std::size_t>(cell)];
+    s.Vertices.resize(static_cast<std::size_t>(npts));
+    for (vtkIdType k = 0; k < npts; ++k)
+    {
+      if (ids[k] < 0 || ids[k] >= input->GetNumberOfPoints())
+      {
+        std::ostringstream os;
+        os << "cell " << cell << ": point id " << ids[k] << " out of range ("
+           << input->GetNumberOfPoints() << " points)";
+        throw InputError(os.str());
+      }
+      double p[3];
+      points->GetPoint(ids[k], p);
+      s.Vertices[static_cast<std::size_t>(k)] = Vec3(p[0], p[1], p[2]);
+    }
+    double c[3];
+    reflectance->GetTuple(cell, c);
+    s.Reflectance = RGB(c[0], c[1], c[2]);
+    emission->GetTuple(cell, c);
+    s.Emission = RGB(c[0], c[1], c[2]);
+  }
+  return scene;
+}
+
+void SceneToPolyData(const Scene& scene, vtkPolyData* output)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkDoubleArray> reflectance;
+  reflectance->SetName("Reflectance");
+  reflectance->SetNumberOfComponents(3);
+  vtkNew<vtkDoubleArray> emission;
+  emission->SetName("Emission");
+  emission->SetNumberOfComponents(3);
+  for (const Surface& s : scene.Surfaces)
+  {
+    polys->InsertNextCell(static_cast<vtkIdType>(s.Vertices.size()));
+    for (const Vec3& v : s.Vertices)
+    {
+      polys->InsertCellPoint(points->InsertNextPoint(v.X, v.Y, v.Z));
+    }
+    reflectance->InsertNextTuple3(s.Reflectance.R, s.Reflectance.G, s.Reflectance.B);
+    emission->InsertNextTuple3(s.Emission.R, s.Emission.G, s.Emission.B);
+  }
+  output->Initialize();
+  output->SetPoints(points);
+  output->SetPolys(polys);
+  output->GetCellData()->AddArray(reflectance);
+  output->GetCellData()->AddArray(emission);
+}
+}

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @file vtkPenumbraSceneConversion.h
+ * @brief Private: conversion between a scene vtkPolyData (design contract) and
+ * penumbra::Scene. Not installed, not wrapped.
+ */
+#ifndef vtkPenumbraSceneConversion_h
+#define vtkPenumbraSceneConversion_h
+
+#include "penumbraScene.h"
+
+#include <string>
+
+class vtkPolyData;
+
+namespace penumbra
+{
+/**
+ * Read a scene from polydata: every polygon cell is a surface, with cell
+ * arrays `Reflectance` and `Emission` (3 components each). Throws
+ * penumbra::InputError naming the offending array or cell. Does not validate
+ * geometry; call ValidateScene for that.
+ */
+Scene SceneFromPolyData(vtkPolyData* input);
+
+/// Write a scene as polydata: one polygon per surface, cell arrays
+/// `Reflectance` and `Emission` (double, 3 components).
+void SceneToPolyData(const Scene& scene, vtkPolyData* output);
+}
+
+#endif

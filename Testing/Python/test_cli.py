@@ -1,0 +1,100 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The command line: help, scene list, the main job, and one-line errors."""
+import os
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOImage import vtkPNGReader
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+from conftest import BUILD_DIR, SCENE_DIR, run_penumbra
+
+
+def test_help_lists_commands():
+    result = run_penumbra("--help")
+    assert result.returncode == 0
+    for command in ("solve", "scenes", "render"):
+        assert command in result.stdout
+    solve_help = run_penumbra("solve", "--help")
+    assert solve_help.returncode == 0 and "--threads" in solve_help.stdout
+
+
+def test_scenes_lists_builtin_scenes():
+    result = run_penumbra("scenes")
+    assert result.returncode == 0
+    names = [line.split()[0] for line in result.stdout.splitlines() if line.strip()]
+    assert {"cornell", "strip", "occluder", "seven", "blind"} <= set(names)
+
+
+def test_solve_cornell_writes_vtp_and_png(tmp_path):
+    vtp, png = tmp_path / "cornell.vtp", tmp_path / "cornell.png"
+    result = run_penumbra("solve", "cornell", "-o", vtp, "--png", png, "--threads", 2,
+                          cwd=str(tmp_path))
+    assert result.returncode == 0, result.stderr
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(str(vtp))
+    reader.Update()
+    data = reader.GetOutput()
+    assert data.GetNumberOfPolys() > 0
+    for name in ("Reflectance", "Emission"):
+        assert data.GetCellData().GetArray(name).GetNumberOfComponents() == 3
+    image = vtkPNGReader()
+    image.SetFileName(str(png))
+    image.Update()
+    pixels = vtk_to_numpy(image.GetOutput().GetPointData().GetScalars())
+    assert image.GetOutput().GetDimensions()[:2] == (512, 512)
+    # A picture, not a blank: red and green walls both show.
+    r, g = pixels[:, 0].astype(float), pixels[:, 1].astype(float)
+    red = (r > 60) & (r > 2.5 * g)
+    green = (g > 40) & (g > 2.0 * r)
+    assert red.mean() > 0.05 and green.mean() > 0.05
+
+
+def test_solve_obj_scene(tmp_path):
+    result = run_penumbra("solve", os.path.join(SCENE_DIR, "box.obj"), "-o", tmp_path / "box.vtp")
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "box.vtp").stat().st_size > 0
+
+
+def _assert_one_line_error(result, fragment):
+    assert result.returncode != 0
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("penumbra: error:") and fragment in lines[0], lines[0]
+
+
+def test_unknown_scene_is_a_one_line_error(tmp_path):
+    _assert_one_line_error(run_penumbra("solve", "nowhere", "-o", tmp_path / "x.vtp"),
+                           "unknown scene 'nowhere'")
+
+
+def test_missing_file_is_a_one_line_error(tmp_path):
+    _assert_one_line_error(run_penumbra("solve", tmp_path / "absent.obj", "-o",
+                                        tmp_path / "x.vtp"), "not found")
+
+
+def test_invalid_obj_is_a_one_line_error(tmp_path):
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 0\nv 0 0 0\nf 1 2 3\n")
+    _assert_one_line_error(run_penumbra("solve", bad, "-o", tmp_path / "x.vtp"), "cell 0")
+    assert not (tmp_path / "x.vtp").exists()
+
+
+def test_bad_threads_setting(tmp_path):
+    result = run_penumbra("solve", "cornell", "-o", tmp_path / "x.vtp", "--threads", "0")
+    assert result.returncode != 0 and "--threads" in result.stderr
+
+
+def test_module_runs_from_any_directory(tmp_path):
+    result = run_penumbra("--version", cwd="/")
+    assert result.returncode == 0 and result.stdout.startswith("penumbra ")
+
+
+def test_installed_script_in_build_tree(tmp_path):
+    import subprocess
+    script = os.path.join(BUILD_DIR, "bin", "penumbra")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    result = subprocess.run([script, "scenes"], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, universal_newlines=True)
+    assert result.returncode == 0, result.stderr
+    assert "cornell" in result.stdout

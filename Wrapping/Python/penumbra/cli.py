@@ -1,0 +1,172 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The `penumbra` command line.
+
+    penumbra solve SCENE -o OUT.vtp [--png OUT.png] [--threads N]
+    penumbra scenes
+    penumbra render IN.vtp -o OUT.png [--camera cornell|auto]
+
+SCENE is a built-in scene name (see `penumbra scenes`) or a .vtp/.obj file
+following Penumbra's data contract. Exit status 0 on success; otherwise a
+one-line message on standard error and a non-zero status.
+"""
+import argparse
+import os
+import sys
+import time
+
+
+class ProgressBar:
+    """A progress bar on standard error fed by VTK ProgressEvents.
+
+    Draws in place on a terminal; elsewhere (logs, CI) prints one line per
+    10% so that long work still shows life without flooding the log.
+    """
+
+    def __init__(self, label, stream=None, enabled=True):
+        self.label = label
+        self.stream = stream or sys.stderr
+        self.enabled = enabled
+        self.interactive = hasattr(self.stream, "isatty") and self.stream.isatty()
+        self.last_decile = -1
+
+    def attach(self, algorithm):
+        from vtkmodules.vtkCommonCore import vtkCommand
+
+        algorithm.AddObserver(vtkCommand.ProgressEvent,
+                              lambda caller, _event: self.update(caller.GetProgress(),
+                                                                 caller.GetProgressText()))
+
+    def update(self, fraction, text=None):
+        if not self.enabled:
+            return
+        fraction = min(max(float(fraction), 0.0), 1.0)
+        detail = " %s" % text if text else ""
+        if self.interactive:
+            filled = int(round(30 * fraction))
+            self.stream.write("\r%s [%s%s] %3d%%%s" % (self.label, "#" * filled,
+                                                       "." * (30 - filled),
+                                                       int(100 * fraction), detail[:40]))
+            if fraction >= 1.0:
+                self.stream.write("\n")
+            self.stream.flush()
+        else:
+            decile = int(10 * fraction)
+            if decile != self.last_decile:
+                self.last_decile = decile
+                self.stream.write("%s %3d%%%s\n" % (self.label, 10 * decile, detail))
+                self.stream.flush()
+
+
+def _fail(message):
+    sys.stderr.write("penumbra: error: %s\n" % " ".join(str(message).split()))
+    return 2
+
+
+def _command_scenes(_args):
+    import penumbra
+
+    for name, description in penumbra.scenes():
+        print("%-10s %s" % (name, description))
+    return 0
+
+
+def _command_solve(args):
+    import penumbra
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+
+    if args.threads is not None:
+        from vtkmodules.vtkCommonCore import vtkSMPTools
+        vtkSMPTools.Initialize(args.threads)
+    start = time.time()
+    scene = penumbra.load_scene(args.scene)
+    # The solver stages are not built yet: the job writes the validated scene
+    # with its arrays, as the data contract defines it.
+    sys.stderr.write("penumbra: note: the radiosity solver is not built yet; "
+                     "writing the validated scene\n")
+    writer = vtkXMLPolyDataWriter()
+    writer.SetFileName(args.output)
+    writer.SetInputData(scene)
+    writer.SetDataModeToAppended()
+    writer.SetCompressorTypeToZLib()
+    if not writer.Write():
+        return _fail("could not write %s" % args.output)
+    elapsed = time.time() - start
+    print("wrote %s (%d surfaces) in %.2f s" % (args.output, scene.GetNumberOfCells(), elapsed))
+    if args.png:
+        from .rendering import render_png
+        camera = "cornell" if args.scene == "cornell" else "auto"
+        render_png(args.output, args.png, camera=camera)
+        print("wrote %s" % args.png)
+    return 0
+
+
+def _command_render(args):
+    from .rendering import render_png
+
+    if not os.path.isfile(args.input):
+        return _fail("file not found: %s" % args.input)
+    render_png(args.input, args.output, camera=args.camera, size=tuple(args.size),
+               exposure=args.exposure)
+    return 0
+
+
+def _positive_int(text):
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError("must be a positive integer, got %s" % text)
+    return value
+
+
+def build_parser():
+    parser = argparse.ArgumentParser(
+        prog="penumbra",
+        description="Penumbra: accurate radiosity (discontinuity meshing) for VTK.")
+    parser.add_argument("--version", action="store_true", help="print the version and exit")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    solve = sub.add_parser("solve", help="solve a scene and write the result as .vtp",
+                           description="Solve SCENE (a built-in name or a .vtp/.obj file) "
+                                       "and write the result.")
+    solve.add_argument("scene", metavar="SCENE",
+                       help="built-in scene name (see 'penumbra scenes') or a .vtp/.obj file")
+    solve.add_argument("-o", "--output", required=True, metavar="OUT.vtp",
+                       help="the result, a VTK XML polydata file")
+    solve.add_argument("--png", metavar="OUT.png", help="also render a picture of the result")
+    solve.add_argument("--threads", type=_positive_int, metavar="N",
+                       help="worker threads (default: all cores)")
+    solve.set_defaults(handler=_command_solve)
+
+    scenes = sub.add_parser("scenes", help="list the built-in scenes")
+    scenes.set_defaults(handler=_command_scenes)
+
+    render = sub.add_parser("render", help="render a .vtp scene or result to PNG")
+    render.add_argument("input", metavar="IN.vtp")
+    render.add_argument("-o", "--output", required=True, metavar="OUT.png")
+    render.add_argument("--camera", choices=("auto", "cornell"), default="auto",
+                        help="'cornell' for the Cornell box camera (default: auto)")
+    render.add_argument("--size", type=_positive_int, nargs=2, default=(512, 512),
+                        metavar=("W", "H"), help="picture size in pixels (default 512 512)")
+    render.add_argument("--exposure", type=float, default=None,
+                        help="radiance shown as white (default: 99th percentile)")
+    render.set_defaults(handler=_command_render)
+    return parser
+
+
+def main(argv=None):
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.version:
+        import penumbra
+        print("penumbra %s" % penumbra.__version__)
+        return 0
+    if not getattr(args, "handler", None):
+        parser.print_help()
+        return 2
+    try:
+        return args.handler(args)
+    except Exception as error:  # one line on stderr, never a traceback, for bad input
+        from . import PenumbraError
+        from .rendering import RenderError
+        if isinstance(error, (PenumbraError, RenderError, OSError, ValueError)):
+            return _fail(error)
+        raise

@@ -1,0 +1,169 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Pictures of Penumbra scenes and solutions.
+
+Debian's VTK renders only through X. `render_png` therefore renders in this
+process when a display is available and otherwise re-runs itself under
+`xvfb-run` in a child process, so that a missing display is an error message
+and never an abort of the caller.
+"""
+import os
+import shutil
+import subprocess
+import sys
+
+# The camera of the Cornell box data set (metres): eye, focal point, view up,
+# vertical view angle from a 35 mm lens on 25 mm film.
+CORNELL_CAMERA = {
+    "position": (0.278, 0.273, -0.800),
+    "focal_point": (0.278, 0.273, 0.0),
+    "view_up": (0.0, 1.0, 0.0),
+    "view_angle": 39.3076,  # 2 atan(12.5 / 35) in degrees
+}
+
+
+class RenderError(RuntimeError):
+    """The picture could not be made (no display, no xvfb-run, ...)."""
+
+
+def _has_display():
+    return bool(os.environ.get("DISPLAY"))
+
+
+def render_png(vtp_path, png_path, camera="auto", size=(512, 512), exposure=None):
+    """Render the .vtp at `vtp_path` into `png_path`.
+
+    camera: "cornell" for the Cornell box camera, "auto" to frame the data.
+    exposure: radiance mapped to white; None picks the 99th percentile.
+    Raises RenderError when no display can be had.
+    """
+    if _has_display():
+        _render_here(vtp_path, png_path, camera, size, exposure)
+        return
+    xvfb = shutil.which("xvfb-run")
+    if not xvfb:
+        raise RenderError("no X display and no xvfb-run: install the 'xvfb' and 'xauth' "
+                          "packages or set DISPLAY to render a picture")
+    command = [xvfb, "-a", sys.executable, "-m", "penumbra", "render", vtp_path,
+               "-o", png_path, "--camera", camera, "--size", str(size[0]), str(size[1])]
+    if exposure is not None:
+        command += ["--exposure", repr(float(exposure))]
+    env = dict(os.environ)
+    package_root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    env["PYTHONPATH"] = os.pathsep.join(
+        [package_root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+    result = subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            universal_newlines=True)
+    if result.returncode != 0:
+        raise RenderError("rendering under xvfb-run failed: %s"
+                          % (result.stderr.strip().splitlines() or ["(no message)"])[-1])
+
+
+def radiance_to_colors(radiance, exposure=None):
+    """Display colors (uint8 RGB) for an (n, 3) radiance array.
+
+    Linear radiance is divided by `exposure` (default: the 99th percentile of
+    the channel maxima, so highlights do not wash out the picture), clipped to
+    [0, 1] and encoded with the sRGB transfer curve.
+    """
+    import numpy as np
+
+    radiance = np.asarray(radiance, dtype=float).reshape(-1, 3)
+    if exposure is None:
+        peaks = radiance.max(axis=1) if len(radiance) else np.zeros(1)
+        exposure = float(np.percentile(peaks, 99)) if len(peaks) else 1.0
+    exposure = exposure if exposure > 0 else 1.0
+    x = np.clip(radiance / exposure, 0.0, 1.0)
+    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+    return np.round(srgb * 255.0).astype(np.uint8)
+
+
+def make_render_window(data, camera="auto", size=(512, 512), exposure=None):
+    """An off-screen vtkRenderWindow showing `data` (a scene or a solution).
+
+    A solution (point array `Radiance`) is shown unlit, as computed, through
+    `radiance_to_colors`; a bare scene in its reflectance colors (emitters
+    white) under a headlight. Needs an X display (see `render_png`).
+    """
+    import numpy as np
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer,
+                                             vtkRenderWindow)
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (registers the OpenGL backend)
+
+    shaded = data.NewInstance()
+    shaded.ShallowCopy(data)
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputData(shaded)
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    radiance = data.GetPointData().GetArray("Radiance")
+    if radiance is not None:
+        # View-independent radiance is the picture: show it unlit.
+        colors = numpy_to_vtk(radiance_to_colors(vtk_to_numpy(radiance), exposure), deep=1)
+        colors.SetName("DisplayColor")
+        shaded.GetPointData().AddArray(colors)
+        mapper.SetScalarModeToUsePointFieldData()
+        actor.GetProperty().LightingOff()
+    else:
+        reflectance = vtk_to_numpy(data.GetCellData().GetArray("Reflectance"))
+        emission = vtk_to_numpy(data.GetCellData().GetArray("Emission"))
+        rgb = np.where(emission.max(axis=1, keepdims=True) > 0, 1.0, reflectance)
+        # Ambient light scales by the color too; brighten so walls read.
+        rgb = np.clip(rgb, 0, 1)
+        colors = numpy_to_vtk(np.round(np.clip(rgb, 0, 1) * 255).astype(np.uint8), deep=1)
+        colors.SetName("DisplayColor")
+        shaded.GetCellData().AddArray(colors)
+        mapper.SetScalarModeToUseCellFieldData()
+        # Walls seen edge-on from a headlight would be black: mostly ambient.
+        actor.GetProperty().SetAmbient(0.6)
+        actor.GetProperty().SetDiffuse(0.4)
+    mapper.SelectColorArray("DisplayColor")
+    mapper.SetColorModeToDirectScalars()
+    mapper.ScalarVisibilityOn()
+
+    renderer = vtkRenderer()
+    renderer.AddActor(actor)
+    renderer.SetBackground(0.0, 0.0, 0.0)
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetSize(int(size[0]), int(size[1]))
+    window.AddRenderer(renderer)
+    view = renderer.GetActiveCamera()
+    if camera == "cornell":
+        view.SetPosition(*CORNELL_CAMERA["position"])
+        view.SetFocalPoint(*CORNELL_CAMERA["focal_point"])
+        view.SetViewUp(*CORNELL_CAMERA["view_up"])
+        view.SetViewAngle(CORNELL_CAMERA["view_angle"])
+        renderer.ResetCameraClippingRange()
+    else:
+        view.SetPosition(0.6, 0.8, -1.0)
+        view.SetFocalPoint(0.0, 0.0, 0.0)
+        view.SetViewUp(0.0, 1.0, 0.0)
+        renderer.ResetCamera()
+        view.Zoom(1.2)
+    window._penumbra_keep = (shaded, mapper, actor, renderer)  # keep the pipeline alive
+    return window
+
+
+def _render_here(vtp_path, png_path, camera, size, exposure):
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(vtp_path)
+    reader.Update()
+    data = reader.GetOutput()
+    if data.GetNumberOfCells() == 0:
+        raise RenderError("nothing to render in %s" % vtp_path)
+    window = make_render_window(data, camera, size, exposure)
+    window.Render()
+    grabber = vtkWindowToImageFilter()
+    grabber.SetInput(window)
+    grabber.ReadFrontBufferOff()
+    grabber.Update()
+    writer = vtkPNGWriter()
+    writer.SetFileName(png_path)
+    writer.SetInputConnection(grabber.GetOutputPort())
+    writer.Write()
+    window.Finalize()
