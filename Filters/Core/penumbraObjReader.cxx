@@ -23,11 +23,16 @@ struct Material
   RGB Emission;
 };
 
-// A token as shown in messages: quoted, and cut short so that a huge token
-// cannot produce a huge message.
+// A token as shown in messages: quoted, control bytes (from a binary file)
+// shown as '?', and cut short so that a huge token cannot make a huge message.
 std::string Quote(const std::string& token)
 {
-  return "'" + (token.size() > 40 ? token.substr(0, 40) + "..." : token) + "'";
+  std::string shown = token.size() > 40 ? token.substr(0, 40) + "..." : token;
+  for (char& c : shown)
+  {
+    c = (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? '?' : c;
+  }
+  return "'" + shown + "'";
 }
 
 // Reads logical lines (backslash continuations joined, comments removed) split
@@ -90,7 +95,7 @@ public:
 private:
   // Appends the next physical line (without its end of line) to `line`;
   // false at the end of the stream. Reads byte by byte through the buffer so
-  // that an absurdly long line is rejected without being stored.
+  // that an absurdly long line is rejected before it is read whole.
   bool ReadPhysical(std::string& line)
   {
     std::streambuf* buffer = this->In.rdbuf();
@@ -229,7 +234,8 @@ RGB ParseColor(const LineReader& reader, const std::vector<std::string>& t)
   const std::string& key = t[0];
   if (t.size() > 1 && (t[1] == "spectral" || t[1] == "xyz"))
   {
-    reader.Fail("malformed " + key + ": '" + t[1] + "' colours are not supported (use 1 or 3 numbers)");
+    reader.Fail(
+      "malformed " + key + ": '" + t[1] + "' colours are not supported (use 1 or 3 numbers)");
   }
   if (t.size() != 2 && t.size() != 4)
   {
@@ -414,23 +420,19 @@ Scene ReadObjScene(const std::string& objPath)
       (fs::exists(objPath, ec) ? "" : ": no such file"));
   }
   const fs::path folder = fs::path(objPath).parent_path();
-  const ObjMaterialOpener open = [&folder](const std::string& name) -> std::unique_ptr<std::istream> {
+  const ObjMaterialOpener open = [&folder](const std::string& name) {
     fs::path path(name);
     if (path.is_relative())
     {
       path = folder / path;
     }
     std::error_code error;
-    if (fs::is_directory(path, error))
+    std::unique_ptr<std::istream> stream;
+    if (!fs::is_directory(path, error))
     {
-      return nullptr;
+      stream = std::make_unique<std::ifstream>(path, std::ios::binary);
     }
-    auto stream = std::make_unique<std::ifstream>(path, std::ios::binary);
-    if (!*stream)
-    {
-      return nullptr;
-    }
-    return stream;
+    return stream && *stream ? std::move(stream) : nullptr;
   };
   return ParseObjScene(in, objPath, open);
 }

@@ -27,7 +27,7 @@
  * - "strip" (2 surfaces; paper Fig. 2): floor 4 x 4 m at y = 0 centred on the
  *   origin, facing up; a strip light 3 m long (x) and 0.1 m wide (z) at
  *   y = 1 facing down, emission 30. No occluder: the radiance is smooth
- *   (floor centre about 0.97).
+ *   (floor centre about 0.96).
  * - "occluder" (3 surfaces; paper Fig. 3): floor 4 x 4 m; a square light
  *   0.5 x 0.5 m at y = 2 facing down, emission 50; one square occluder
  *   0.6 x 0.6 m at y = 1, centred and parallel, edges parallel to the light's.

@@ -23,13 +23,14 @@ using Files = std::map<std::string, std::string>;
 Scene Parse(const std::string& obj, const Files& mtls = Files())
 {
   std::istringstream in(obj);
-  return ParseObjScene(in, "t.obj", [&mtls](const std::string& name) -> std::unique_ptr<std::istream> {
+  return ParseObjScene(in, "t.obj", [&mtls](const std::string& name) {
     const auto found = mtls.find(name);
-    if (found == mtls.end())
+    std::unique_ptr<std::istream> stream;
+    if (found != mtls.end())
     {
-      return nullptr;
+      stream = std::make_unique<std::istringstream>(found->second);
     }
-    return std::make_unique<std::istringstream>(found->second);
+    return stream;
   });
 }
 
@@ -172,80 +173,86 @@ void TestSyntax()
   PENUMBRA_EXPECT(Parse("# only a comment\n\n").Surfaces.empty());
 }
 
+// Expect that parsing OBJ text (or, for MTL, an OBJ naming only m.mtl with
+// this text) throws InputError whose message contains `fragment`.
+#define EXPECT_PARSE_ERROR(text, fragment) PENUMBRA_EXPECT_THROW(Parse(text), InputError, fragment)
+#define EXPECT_MTL_ERROR(text, fragment)                                                           \
+  PENUMBRA_EXPECT_THROW(Parse("mtllib m.mtl\n", { { "m.mtl", text } }), InputError, fragment)
+
 void TestErrors()
 {
   const std::string square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
   const std::string eight = square + "v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
   // Coordinates.
-  PENUMBRA_EXPECT_THROW(Parse("v 1 a 3"), InputError, "t.obj:1: y coordinate 'a' is not a number");
-  PENUMBRA_EXPECT_THROW(Parse("\nv 1 2"), InputError, "t.obj:2: vertex has 2 values");
-  PENUMBRA_EXPECT_THROW(Parse("v"), InputError, "t.obj:1: vertex has 0 values");
-  PENUMBRA_EXPECT_THROW(Parse("v 1 2 3 4 5"), InputError, "t.obj:1: vertex has 5 values");
-  PENUMBRA_EXPECT_THROW(Parse("v 1 2 3 x"), InputError, "t.obj:1: w 'x' is not a number");
-  PENUMBRA_EXPECT_THROW(Parse("v 1 inf 0"), InputError, "t.obj:1: y coordinate 'inf' is not finite");
-  PENUMBRA_EXPECT_THROW(Parse("v nan 0 0"), InputError, "t.obj:1: x coordinate 'nan' is not finite");
-  PENUMBRA_EXPECT_THROW(Parse("v 0 0 -Infinity"), InputError, "z coordinate '-Infinity' is not finite");
-  PENUMBRA_EXPECT_THROW(Parse("v 1e999 0 0"), InputError, "t.obj:1: x coordinate '1e999' is out of range");
-  PENUMBRA_EXPECT_THROW(Parse("v 0 -1e400 0"), InputError, "y coordinate '-1e400' is out of range");
-  PENUMBRA_EXPECT_THROW(Parse("v 0 0 0x10"), InputError, "z coordinate '0x10' is not a number");
-  PENUMBRA_EXPECT_THROW(Parse("v 0 0 +-1"), InputError, "z coordinate '+-1' is not a number");
-  PENUMBRA_EXPECT_THROW(Parse("v 0 0 1,5"), InputError, "z coordinate '1,5' is not a number");
+  EXPECT_PARSE_ERROR("v 1 a 3", "t.obj:1: y coordinate 'a' is not a number");
+  EXPECT_PARSE_ERROR("\nv 1 2", "t.obj:2: vertex has 2 values");
+  EXPECT_PARSE_ERROR("v", "t.obj:1: vertex has 0 values");
+  EXPECT_PARSE_ERROR("v 1 2 3 4 5", "t.obj:1: vertex has 5 values");
+  EXPECT_PARSE_ERROR("v 1 2 3 x", "t.obj:1: w 'x' is not a number");
+  EXPECT_PARSE_ERROR("v 1 inf 0", "t.obj:1: y coordinate 'inf' is not finite");
+  EXPECT_PARSE_ERROR("v nan 0 0", "t.obj:1: x coordinate 'nan' is not finite");
+  EXPECT_PARSE_ERROR("v 0 0 -Infinity", "z coordinate '-Infinity' is not finite");
+  EXPECT_PARSE_ERROR("v 1e999 0 0", "t.obj:1: x coordinate '1e999' is out of range");
+  EXPECT_PARSE_ERROR("v 0 -1e400 0", "y coordinate '-1e400' is out of range");
+  EXPECT_PARSE_ERROR("v 0 0 0x10", "z coordinate '0x10' is not a number");
+  EXPECT_PARSE_ERROR("v 0 0 +-1", "z coordinate '+-1' is not a number");
+  EXPECT_PARSE_ERROR("v 0 0 1,5", "z coordinate '1,5' is not a number");
   // Truncated last lines: rejected cleanly.
-  PENUMBRA_EXPECT_THROW(Parse(square + "v 0.5 0."), InputError, "t.obj:5: vertex has 2 values");
-  PENUMBRA_EXPECT_THROW(Parse(square + "v 1 2 3e"), InputError, "t.obj:5: z coordinate '3e' is not a number");
-  PENUMBRA_EXPECT_THROW(Parse(square + "f 1 2 3/"), InputError, "t.obj:5: malformed face vertex '3/'");
-  PENUMBRA_EXPECT_THROW(Parse(square + "v 1 2 \\"), InputError, "t.obj:5: vertex has 2 values");
+  EXPECT_PARSE_ERROR(square + "v 0.5 0.", "t.obj:5: vertex has 2 values");
+  EXPECT_PARSE_ERROR(square + "v 1 2 3e", "t.obj:5: z coordinate '3e' is not a number");
+  EXPECT_PARSE_ERROR(square + "f 1 2 3/", "t.obj:5: malformed face vertex '3/'");
+  EXPECT_PARSE_ERROR(square + "v 1 2 \\", "t.obj:5: vertex has 2 values");
   // Faces.
-  PENUMBRA_EXPECT_THROW(Parse(square + "f 1 2"), InputError, "t.obj:5: face with 2 vertices (needs at least 3)");
-  PENUMBRA_EXPECT_THROW(Parse(square + "f 1 \\\n 2\n"), InputError, "t.obj:5: face with 2 vertices");
-  PENUMBRA_EXPECT_THROW(Parse(square + "f 0 1 2"), InputError, "t.obj:5: face index 0 is invalid");
-  PENUMBRA_EXPECT_THROW(Parse(eight + "f 1 2 9"), InputError, "t.obj:9: face index 9 out of range (8 vertices)");
-  PENUMBRA_EXPECT_THROW(Parse(eight + "f -9 1 2"), InputError, "t.obj:9: face index -9 out of range (8 vertices)");
-  PENUMBRA_EXPECT_THROW(Parse("f 1 2 3\n" + square), InputError, "t.obj:1: face index 1 out of range (0 vertices)");
-  PENUMBRA_EXPECT_THROW(Parse(square + "f 1 2 99999999999999999999"), InputError,
+  EXPECT_PARSE_ERROR(square + "f 1 2", "t.obj:5: face with 2 vertices (needs at least 3)");
+  EXPECT_PARSE_ERROR(square + "f 1 \\\n 2\n", "t.obj:5: face with 2 vertices");
+  EXPECT_PARSE_ERROR(square + "f 0 1 2", "t.obj:5: face index 0 is invalid");
+  EXPECT_PARSE_ERROR(eight + "f 1 2 9", "t.obj:9: face index 9 out of range (8 vertices)");
+  EXPECT_PARSE_ERROR(eight + "f -9 1 2", "t.obj:9: face index -9 out of range (8 vertices)");
+  EXPECT_PARSE_ERROR("f 1 2 3\n" + square, "t.obj:1: face index 1 out of range (0 vertices)");
+  EXPECT_PARSE_ERROR(square + "f 1 2 99999999999999999999",
     "t.obj:5: face index '99999999999999999999' out of range (4 vertices)");
-  PENUMBRA_EXPECT_THROW(Parse(square + "f 1 2/x 3"), InputError, "t.obj:5: malformed face vertex '2/x'");
-  PENUMBRA_EXPECT_THROW(Parse(square + "f 1 2 3/1/1/1"), InputError, "malformed face vertex '3/1/1/1'");
-  PENUMBRA_EXPECT_THROW(Parse(square + "f 1 a 3"), InputError, "malformed face vertex 'a'");
-  PENUMBRA_EXPECT_THROW(Parse(square + "f 1 2 1.5"), InputError, "malformed face vertex '1.5'");
-  PENUMBRA_EXPECT_THROW(Parse(square + "f 1 2 3//"), InputError, "malformed face vertex '3//'");
+  EXPECT_PARSE_ERROR(square + "f 1 2/x 3", "t.obj:5: malformed face vertex '2/x'");
+  EXPECT_PARSE_ERROR(square + "f 1 2 3/1/1/1", "malformed face vertex '3/1/1/1'");
+  EXPECT_PARSE_ERROR(square + "f 1 a 3", "malformed face vertex 'a'");
+  EXPECT_PARSE_ERROR(square + "f 1 2 1.5", "malformed face vertex '1.5'");
+  EXPECT_PARSE_ERROR(square + "f 1 2 3//", "malformed face vertex '3//'");
   // Statements and materials.
-  PENUMBRA_EXPECT_THROW(Parse("ply\nformat ascii 1.0\n"), InputError, "t.obj:1: unknown statement 'ply'");
-  PENUMBRA_EXPECT_THROW(Parse(std::string("v 0 0 0\n\x7f" "ELF\x01\x00\x02", 16)), InputError,
-    "t.obj:2: unknown statement");
-  PENUMBRA_EXPECT_THROW(Parse("usemtl nothere"), InputError, "t.obj:1: unknown material 'nothere'");
-  PENUMBRA_EXPECT_THROW(Parse("usemtl"), InputError, "t.obj:1: usemtl without a material name");
-  PENUMBRA_EXPECT_THROW(Parse("\n\nmtllib missing.mtl"), InputError,
+  EXPECT_PARSE_ERROR("ply\nformat ascii 1.0\n", "t.obj:1: unknown statement 'ply'");
+  EXPECT_PARSE_ERROR(std::string("v 0 0 0\n\x7f" "ELF\x01\x00\x02", 15),
+    "t.obj:2: unknown statement '?ELF");
+  EXPECT_PARSE_ERROR("usemtl nothere", "t.obj:1: unknown material 'nothere'");
+  EXPECT_PARSE_ERROR("usemtl", "t.obj:1: usemtl without a material name");
+  EXPECT_PARSE_ERROR("\n\nmtllib missing.mtl",
     "t.obj:3: cannot open material library 'missing.mtl'");
-  PENUMBRA_EXPECT_THROW(Parse("mtllib"), InputError, "t.obj:1: mtllib without a file name");
-  const auto mtl = [](const std::string& text) { return Parse("mtllib m.mtl\n", { { "m.mtl", text } }); };
-  PENUMBRA_EXPECT_THROW(mtl("newmtl a\nKd 0.5 0.5"), InputError,
+  EXPECT_PARSE_ERROR("mtllib", "t.obj:1: mtllib without a file name");
+  EXPECT_MTL_ERROR("newmtl a\nKd 0.5 0.5",
     "m.mtl:2: malformed Kd: expected 1 or 3 numbers, got 2");
-  PENUMBRA_EXPECT_THROW(mtl("newmtl a\nKe"), InputError, "m.mtl:2: malformed Ke: expected 1 or 3 numbers, got 0");
-  PENUMBRA_EXPECT_THROW(mtl("newmtl a\n\nKd 0.5 x 0.5"), InputError, "m.mtl:3: Kd green 'x' is not a number");
-  PENUMBRA_EXPECT_THROW(mtl("newmtl a\nKd 0.5\nKe inf 0 0"), InputError, "m.mtl:3: Ke red 'inf' is not finite");
-  PENUMBRA_EXPECT_THROW(mtl("newmtl a\nKe 1e999"), InputError, "m.mtl:2: Ke '1e999' is out of range");
-  PENUMBRA_EXPECT_THROW(mtl("newmtl a\nKd xyz 0.1 0.2 0.3"), InputError, "m.mtl:2: malformed Kd: 'xyz' colours");
-  PENUMBRA_EXPECT_THROW(mtl("newmtl a\nKd spectral a.rfl 1.0"), InputError,
+  EXPECT_MTL_ERROR("newmtl a\nKe", "m.mtl:2: malformed Ke: expected 1 or 3 numbers, got 0");
+  EXPECT_MTL_ERROR("newmtl a\n\nKd 0.5 x 0.5", "m.mtl:3: Kd green 'x' is not a number");
+  EXPECT_MTL_ERROR("newmtl a\nKd 0.5\nKe inf 0 0", "m.mtl:3: Ke red 'inf' is not finite");
+  EXPECT_MTL_ERROR("newmtl a\nKe 1e999", "m.mtl:2: Ke '1e999' is out of range");
+  EXPECT_MTL_ERROR("newmtl a\nKd xyz 0.1 0.2 0.3", "m.mtl:2: malformed Kd: 'xyz' colours");
+  EXPECT_MTL_ERROR("newmtl a\nKd spectral a.rfl 1.0",
     "m.mtl:2: malformed Kd: 'spectral' colours are not supported");
-  PENUMBRA_EXPECT_THROW(mtl("Kd 1 1 1"), InputError, "m.mtl:1: Kd before any newmtl");
-  PENUMBRA_EXPECT_THROW(mtl("newmtl"), InputError, "m.mtl:1: newmtl without a material name");
+  EXPECT_MTL_ERROR("Kd 1 1 1", "m.mtl:1: Kd before any newmtl");
+  EXPECT_MTL_ERROR("newmtl", "m.mtl:1: newmtl without a material name");
   // Absurdly long lines, also when built from continuations.
   const std::string huge(ObjMaxLineLength + 10, '1');
-  PENUMBRA_EXPECT_THROW(Parse("v 0 0 0\nv " + huge + " 0 0\n"), InputError,
+  EXPECT_PARSE_ERROR("v 0 0 0\nv " + huge + " 0 0\n",
     "t.obj:2: line longer than 1048576 characters");
   std::string pieces;
   for (int i = 0; i < 3000; ++i)
   {
     pieces += std::string(500, ' ') + "\\\n";
   }
-  PENUMBRA_EXPECT_THROW(Parse("v 0 0 0\n" + pieces), InputError, "line longer than 1048576 characters");
+  EXPECT_PARSE_ERROR("v 0 0 0\n" + pieces, "line longer than 1048576 characters");
   // A number too long for any double is still just a number that overflows.
-  PENUMBRA_EXPECT_THROW(Parse("v 0 0 " + std::string(400, '9')), InputError, "is out of range");
+  EXPECT_PARSE_ERROR("v 0 0 " + std::string(400, '9'), "is out of range");
   // A stream that cannot be read at all.
   std::istringstream failed("v 0 0 0");
   failed.setstate(std::ios::failbit);
-  PENUMBRA_EXPECT_THROW(ParseObjScene(failed, "t.obj", nullptr), InputError, "cannot read OBJ 't.obj'");
+  PENUMBRA_EXPECT_THROW(
+    ParseObjScene(failed, "t.obj", nullptr), InputError, "cannot read OBJ 't.obj'");
 }
 
 // Every prefix of a valid file (a truncated download) and random byte

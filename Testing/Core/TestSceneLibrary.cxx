@@ -103,6 +103,11 @@ bool SegmentHits(const Vec3& p, const Vec3& q, const std::vector<Vec3>& poly)
   return true;
 }
 
+bool Equal(const RGB& a, double r, double g, double b)
+{
+  return a.R == r && a.G == g && a.B == b;
+}
+
 bool Same(const Vec3& a, const Vec3& b)
 {
   return Length(a - b) < 1e-12;
@@ -245,19 +250,18 @@ void TestCornell()
       ++emitters;
       PENUMBRA_EXPECT(FindSurface(scene, light) >= 0 &&
         &s == &scene.Surfaces[FindSurface(scene, light)]);
-      PENUMBRA_EXPECT(s.Emission.R == 17 && s.Emission.G == 12 && s.Emission.B == 4);
-      PENUMBRA_EXPECT(s.Reflectance.R == 0.78 && s.Reflectance.G == 0.78 && s.Reflectance.B == 0.78);
+      PENUMBRA_EXPECT(Equal(s.Emission, 17, 12, 4));
+      PENUMBRA_EXPECT(Equal(s.Reflectance, 0.78, 0.78, 0.78));
       PENUMBRA_EXPECT_NEAR(ComputePolygonGeometry(s.Vertices).Normal.Y, -1.0, 1e-15);
     }
   }
   PENUMBRA_EXPECT(emitters == 1);
   const Surface& floorSurface = scene.Surfaces[FindSurface(scene, floor)];
-  PENUMBRA_EXPECT(floorSurface.Reflectance.R == 0.725 && floorSurface.Reflectance.G == 0.71 &&
-    floorSurface.Reflectance.B == 0.68);
+  PENUMBRA_EXPECT(Equal(floorSurface.Reflectance, 0.725, 0.71, 0.68));
   const Surface& red = scene.Surfaces[FindSurface(scene, { l0, l1, l2 })];
-  PENUMBRA_EXPECT(red.Reflectance.R == 0.63 && red.Reflectance.G == 0.065 && red.Reflectance.B == 0.05);
+  PENUMBRA_EXPECT(Equal(red.Reflectance, 0.63, 0.065, 0.05));
   const Surface& green = scene.Surfaces[FindSurface(scene, right)];
-  PENUMBRA_EXPECT(green.Reflectance.R == 0.14 && green.Reflectance.G == 0.45 && green.Reflectance.B == 0.091);
+  PENUMBRA_EXPECT(Equal(green.Reflectance, 0.14, 0.45, 0.091));
 }
 
 // Rectangle check: right angles and area = product of edge lengths.
@@ -489,7 +493,8 @@ int main()
     PENUMBRA_EXPECT(!info.Description.empty());
     CheckCommon(info.Name, MakeBuiltinScene(info.Name));
   }
-  PENUMBRA_EXPECT(names == std::set<std::string>({ "cornell", "strip", "occluder", "seven", "blind" }));
+  PENUMBRA_EXPECT(
+    names == std::set<std::string>({ "cornell", "strip", "occluder", "seven", "blind" }));
   for (const std::string& name : names)
   {
     PENUMBRA_EXPECT_THROW(MakeBuiltinScene("nope"), InputError, name);
