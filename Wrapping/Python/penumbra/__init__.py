@@ -22,6 +22,8 @@ from .vtkPenumbraFilters import (  # noqa: F401
     vtkPenumbraSceneValidator,
 )
 
+import os
+
 __version__ = "0.1.0"
 
 
@@ -36,37 +38,83 @@ def scenes():
             for i in range(source.GetNumberOfScenes())]
 
 
-def run_filter(algorithm):
-    """Update `algorithm` and raise PenumbraError with VTK's error message if it fails.
+def run_filter(algorithm, context=None):
+    """Update `algorithm`; on failure raise PenumbraError with VTK's first error.
 
-    VTK reports errors through ErrorEvent rather than exceptions; this turns
-    the first error into a Python exception and keeps it off the terminal.
+    VTK reports errors through ErrorEvent, the output window and its logger
+    rather than exceptions. While the algorithm runs, all three are captured
+    (nothing reaches the terminal) and the first error becomes the exception's
+    message, prefixed with `context` (e.g. a file name) when given.
     """
+    from vtkmodules.vtkCommonCore import (vtkCommand, vtkLogger, vtkOutputWindow,
+                                          vtkStringOutputWindow)
+
     messages = []
 
     def on_error(_caller, _event, message=None):
         messages.append(str(message) if message is not None else "unknown error")
 
     on_error.CallDataType = vtkmodules.vtkCommonCore.VTK_STRING
-    tag = algorithm.AddObserver(vtkmodules.vtkCommonCore.vtkCommand.ErrorEvent, on_error)
-    executive_tag = algorithm.GetExecutive().AddObserver(
-        vtkmodules.vtkCommonCore.vtkCommand.ErrorEvent, on_error)
+    previous_window = vtkOutputWindow.GetInstance()
+    previous_verbosity = vtkLogger.GetCurrentVerbosityCutoff()
+    window = vtkStringOutputWindow()
+    vtkOutputWindow.SetInstance(window)
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+    tag = algorithm.AddObserver(vtkCommand.ErrorEvent, on_error)
     try:
         algorithm.Update()
     finally:
         algorithm.RemoveObserver(tag)
-        algorithm.GetExecutive().RemoveObserver(executive_tag)
+        vtkOutputWindow.SetInstance(previous_window)
+        vtkLogger.SetStderrVerbosity(previous_verbosity)
+    # The output window holds errors of helper objects (e.g. the XML parser,
+    # whose message is the most specific) in order; the executive's generic
+    # "returned failure" adds nothing.
+    messages = [m for m in _split_vtk_errors(window.GetOutput())
+                if "returned failure for request" not in m] + messages
     if messages:
-        raise PenumbraError(_strip_vtk_prefix(messages[0]))
+        message = _strip_vtk_prefix(messages[0])
+        raise PenumbraError("%s: %s" % (context, message) if context else message)
     return algorithm.GetOutputDataObject(0)
 
 
+def _split_vtk_errors(text):
+    # The output window writes "ERROR: In file, line N\nvtkClass (0x...): text\n\n".
+    blocks = [b.strip() for b in text.split("ERROR: In ") if b.strip()]
+    return [b.split("\n", 1)[1] if "\n" in b else b for b in blocks
+            if not b.startswith("WARNING")]
+
+
 def _strip_vtk_prefix(message):
-    # VTK prefixes "ERROR: In file, line N\nvtkClass (0x...): "; keep the text.
-    text = message.strip().splitlines()[-1] if message.strip() else message
-    if "): " in text:
-        text = text.split("): ", 1)[1]
-    return text.strip()
+    # Keep the text after "vtkClass (0x...): " on the first line that has it.
+    for line in message.strip().splitlines():
+        if "): " in line:
+            return " ".join(line.split("): ", 1)[1].split())
+    return " ".join(message.split())
+
+
+# zlib, the densest compressor VTK writes, packs at most ~1032 bytes into one.
+_MAX_EXPANSION = 1100
+
+
+def _check_vtp_counts(path):
+    """Reject element counts that the file cannot hold before VTK allocates them.
+
+    VTK's XML reader trusts NumberOfPoints and friends and aborts the process
+    when an absurd count cannot be allocated; each point or cell needs at least
+    one byte of (possibly compressed) data, so larger counts are corrupt.
+    """
+    import re
+
+    size = os.path.getsize(path)
+    with open(path, "rb") as stream:
+        head = stream.read(1 << 16).decode("latin-1")
+    for name, text in re.findall(r'(Number[A-Za-z]*)="([^"]*)"', head):
+        if not re.fullmatch(r"\s*\d+\s*", text):
+            raise PenumbraError('%s: %s="%s" is not a non-negative integer' % (path, name, text))
+        if int(text) > _MAX_EXPANSION * size:
+            raise PenumbraError('%s: %s="%s" is more than a %d-byte file can hold'
+                                % (path, name, text.strip(), size))
 
 
 def load_scene(scene):
@@ -74,7 +122,6 @@ def load_scene(scene):
 
     Raises PenumbraError naming the offending cell, array or line.
     """
-    import os
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
     names = [name for name, _ in scenes()]
@@ -89,13 +136,15 @@ def load_scene(scene):
     elif scene.lower().endswith(".vtp"):
         if not os.path.isfile(scene):
             raise PenumbraError("scene file not found: %s" % scene)
+        _check_vtp_counts(scene)
         reader = vtkXMLPolyDataReader()
         reader.SetFileName(scene)
     else:
         raise PenumbraError(
             "unknown scene '%s': give a built-in name (%s) or a .vtp/.obj file"
             % (scene, ", ".join(names)))
-    run_filter(reader)
+    # The OBJ reader names file and line itself; XML errors need the file name.
+    run_filter(reader, context=scene if scene.lower().endswith(".vtp") else None)
     validator = vtkPenumbraSceneValidator()
     validator.SetInputConnection(reader.GetOutputPort())
     return run_filter(validator)
