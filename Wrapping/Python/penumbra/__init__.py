@@ -20,6 +20,7 @@ from .vtkPenumbraFilters import (  # noqa: F401
     vtkPenumbraOBJReader,
     vtkPenumbraSceneSource,
     vtkPenumbraSceneValidator,
+    vtkRadianceEvaluator,
 )
 
 import os

@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @file penumbraExactVisibility.h
+ * @brief Exact visible part of a shooting polygon seen from a point, and the
+ * exact form factor / contributed radiance of a constant-radiance shooter
+ * (Lischinski, Tampieri and Greenberg 1991, section 5, "the more accurate
+ * method": resolve the visible regions of the source, then integrate them in
+ * closed form).
+ *
+ * Method. In the shooter's plane, the visible region starts as the shooter's
+ * convex pieces clipped to x's front half-space. Each convex piece O of each
+ * candidate occluder casts the shadow
+ *
+ *   { y on the shooter : the ray from x to y crosses O's plane inside O,
+ *                        strictly before y },
+ *
+ * which is an intersection of half-planes of the shooter's plane: one per
+ * edge of O (the plane through x and the edge) and one for "y strictly beyond
+ * O's plane as seen from x". Computed this way the shadow needs no clipping
+ * of O to the slab or to the pyramid and no central projection, so occluders
+ * that straddle the shooter's plane or x's tangent plane, touch the shooter
+ * or the receiver, or are seen almost edge-on are handled without division
+ * by small numbers. Shadows are subtracted one at a time from the convex
+ * visible pieces: a piece is split by the shadow's lines, the parts outside
+ * a line are kept, the part inside all lines vanishes; a piece that the
+ * shadow does not touch is kept whole. Pieces smaller than 1e-14 of the
+ * shooter's area are dropped. The form factor is the sum of Lambert's
+ * formula over the visible pieces.
+ *
+ * Conventions: an occluder casts no shadow from a point within
+ * OccluderSet::GetPlaneTolerance() of its own plane (rays from x then only
+ * graze it); occluders within OccluderSet::GetTolerance() of the shooter's
+ * plane count as coplanar with it and do not block it. The contributed
+ * radiance of a constant shooter of radiance Ls onto a receiver of
+ * reflectance rho is rho * Ls * F (E = pi Ls F, L = rho E / pi).
+ */
+#ifndef penumbraExactVisibility_h
+#define penumbraExactVisibility_h
+
+#include "penumbraCoreModule.h" // for export macro
+#include "penumbraOccluderCulling.h"
+#include "penumbraScene.h"
+#include "penumbraVector.h"
+
+#include <vector>
+
+namespace penumbra
+{
+
+/**
+ * Scratch memory of the exact visibility code. One per thread; reusing it
+ * makes every query free of heap allocation once the buffers have grown.
+ * The members are internal and meaningless between calls.
+ */
+struct VisibilityWorkspace
+{
+  std::vector<double> Points;       ///< current visible pieces, (u, v) pairs
+  std::vector<int> Starts;          ///< piece k is [Starts[k], Starts[k+1]) in points
+  std::vector<double> NextPoints;   ///< pieces after the current shadow
+  std::vector<int> NextStarts;      ///< starts of NextPoints
+  std::vector<double> Remainder;    ///< the part of a piece still inside the shadow
+  std::vector<double> Split;        ///< scratch for one split
+  std::vector<double> Lines;        ///< shadow half-planes (a, b, c) triples
+  std::vector<Vec3> Local;          ///< occluder piece vertices relative to x
+  std::vector<int> Candidates;      ///< pyramid candidates
+  CullingVolume Frustum;            ///< pyramid of the current query
+  long long ShadowCount = 0;        ///< statistics: shadows subtracted so far
+};
+
+/**
+ * The visible part of a shooter from a point: convex polygons in the
+ * shooter's plane, world coordinates, counter-clockwise seen from the
+ * shooter's front. Piece k is Points[Offsets[k]] .. Points[Offsets[k+1] - 1].
+ */
+struct VisibleRegion
+{
+  std::vector<Vec3> Points;
+  std::vector<int> Offsets; ///< size = number of pieces + 1 (or empty)
+
+  /// Number of convex pieces.
+  int GetNumberOfPieces() const
+  {
+    return this->Offsets.empty() ? 0 : static_cast<int>(this->Offsets.size()) - 1;
+  }
+  /// Total area of the pieces.
+  PENUMBRACORE_EXPORT double GetArea() const;
+};
+
+/**
+ * Exact form factor from the differential area at x (unit normal n) to the
+ * part of shooter `shooterId` visible from x, taking as potential occluders
+ * the polygons listed in `candidates` (any superset of the real blockers:
+ * shaft candidates, all polygons, ...; each is culled again against the
+ * pyramid from x). `receiverId` (or -1) and the shooter are skipped. When
+ * `region` is given it receives the visible pieces. Returns a finite value
+ * in [0, 1]; 0 when x is not in front of the shooter.
+ */
+PENUMBRACORE_EXPORT double VisibleFormFactor(const OccluderSet& occluders, const Vec3& x,
+  const Vec3& n, int shooterId, int receiverId, const int* candidates, int numberOfCandidates,
+  VisibilityWorkspace& workspace, VisibleRegion* region = nullptr);
+
+/// Convenience overload taking a vector of candidates.
+inline double VisibleFormFactor(const OccluderSet& occluders, const Vec3& x, const Vec3& n,
+  int shooterId, int receiverId, const std::vector<int>& candidates,
+  VisibilityWorkspace& workspace, VisibleRegion* region = nullptr)
+{
+  return VisibleFormFactor(occluders, x, n, shooterId, receiverId, candidates.data(),
+    static_cast<int>(candidates.size()), workspace, region);
+}
+
+/**
+ * Exact evaluator of contributed radiance for constant-radiance shooters:
+ * culling (BVH + pyramid per point, or shaft per pair), exact visibility and
+ * closed-form integration. Construct once per scene; the queries are const
+ * and thread-safe given one VisibilityWorkspace per thread.
+ */
+class PENUMBRACORE_EXPORT ExactEvaluator
+{
+public:
+  /// Prepare `scene` (its geometry is copied; the scene may be discarded).
+  explicit ExactEvaluator(const Scene& scene);
+
+  /// The prepared scene.
+  const OccluderSet& GetOccluders() const { return this->Occluders; }
+
+  /**
+   * Form factor from the differential area at x (on receiver `receiverId`,
+   * or -1 for a free point; unit normal n) to the visible part of shooter
+   * `shooterId`. Occluders are found by BVH traversal of the pyramid from x.
+   */
+  double FormFactor(const Vec3& x, const Vec3& n, int receiverId, int shooterId,
+    VisibilityWorkspace& workspace, VisibleRegion* region = nullptr) const;
+
+  /**
+   * Query A for a pair: the candidates to pass to the per-pair FormFactor.
+   * Returns false when the pair exchanges no light (every FormFactor of the
+   * pair is then 0).
+   */
+  bool ShaftCandidates(int shooterId, int receiverId, std::vector<int>& candidates) const
+  {
+    return this->Occluders.ShaftCandidates(shooterId, receiverId, candidates);
+  }
+
+  /// Per-pair variant of FormFactor: occluders are taken from `shaftCandidates`.
+  double FormFactor(const Vec3& x, const Vec3& n, int receiverId, int shooterId,
+    const std::vector<int>& shaftCandidates, VisibilityWorkspace& workspace,
+    VisibleRegion* region = nullptr) const;
+
+  /**
+   * Radiance contributed at x by shooter `shooterId` emitting its scene
+   * Emission uniformly, reflected by receiver `receiverId` (its scene
+   * Reflectance): rho * Le * F per channel, W sr^-1 m^-2.
+   */
+  RGB ContributedRadiance(const Vec3& x, const Vec3& n, int receiverId, int shooterId,
+    VisibilityWorkspace& workspace) const;
+
+private:
+  OccluderSet Occluders;
+  std::vector<RGB> Reflectance;
+  std::vector<RGB> Emission;
+};
+
+} // namespace penumbra
+
+#endif

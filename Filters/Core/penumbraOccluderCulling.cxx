@@ -1,0 +1,730 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "penumbraOccluderCulling.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <limits>
+
+namespace penumbra
+{
+
+int ClipPolygon2D(const double* xy, int count, double a, double b, double c, double* out)
+{
+  if (count <= 0)
+  {
+    return 0;
+  }
+  int m = 0;
+  double px = xy[2 * (count - 1)];
+  double py = xy[2 * (count - 1) + 1];
+  double dp = a * px + b * py + c;
+  for (int k = 0; k < count; ++k)
+  {
+    const double cx = xy[2 * k];
+    const double cy = xy[2 * k + 1];
+    const double dc = a * cx + b * cy + c;
+    if ((dp > 0.0 && dc < 0.0) || (dp < 0.0 && dc > 0.0))
+    {
+      const double t = dp / (dp - dc);
+      out[2 * m] = px + (cx - px) * t;
+      out[2 * m + 1] = py + (cy - py) * t;
+      ++m;
+    }
+    if (dc >= 0.0)
+    {
+      out[2 * m] = cx;
+      out[2 * m + 1] = cy;
+      ++m;
+    }
+    px = cx;
+    py = cy;
+    dp = dc;
+  }
+  return m >= 3 ? m : 0;
+}
+
+namespace
+{
+
+struct Point2
+{
+  double X;
+  double Y;
+};
+
+double Cross2(const Point2& o, const Point2& a, const Point2& b)
+{
+  return (a.X - o.X) * (b.Y - o.Y) - (a.Y - o.Y) * (b.X - o.X);
+}
+
+bool IsConvex(const std::vector<Point2>& p, const std::vector<int>& cycle, double eps)
+{
+  const std::size_t n = cycle.size();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (Cross2(p[cycle[(i + n - 1) % n]], p[cycle[i]], p[cycle[(i + 1) % n]]) < -eps)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Drop vertices where the outline goes straight on: they add shadow lines
+// and Lambert terms that contribute nothing.
+void RemoveCollinear(const std::vector<Point2>& p, std::vector<int>& cycle, double eps)
+{
+  bool changed = true;
+  while (changed && cycle.size() > 3)
+  {
+    changed = false;
+    const std::size_t n = cycle.size();
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const Point2& a = p[cycle[(i + n - 1) % n]];
+      const Point2& b = p[cycle[i]];
+      const Point2& c = p[cycle[(i + 1) % n]];
+      const bool forward = (b.X - a.X) * (c.X - b.X) + (b.Y - a.Y) * (c.Y - b.Y) >= 0.0;
+      if (std::abs(Cross2(a, b, c)) <= eps && forward)
+      {
+        cycle.erase(cycle.begin() + static_cast<std::ptrdiff_t>(i));
+        changed = true;
+        break;
+      }
+    }
+  }
+}
+
+bool PointInTriangle(const Point2& q, const Point2& a, const Point2& b, const Point2& c, double eps)
+{
+  return Cross2(a, b, q) >= -eps && Cross2(b, c, q) >= -eps && Cross2(c, a, q) >= -eps;
+}
+
+// Ear clipping of a simple counter-clockwise polygon. Degenerate input never
+// loops forever: without a proper ear the flattest vertex is cut.
+void EarClip(const std::vector<Point2>& p, std::vector<std::vector<int>>& triangles, double eps)
+{
+  std::vector<int> v(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i)
+  {
+    v[i] = static_cast<int>(i);
+  }
+  while (v.size() > 3)
+  {
+    const std::size_t n = v.size();
+    std::size_t ear = n;
+    for (std::size_t i = 0; i < n && ear == n; ++i)
+    {
+      const int ia = v[(i + n - 1) % n], ib = v[i], ic = v[(i + 1) % n];
+      if (Cross2(p[ia], p[ib], p[ic]) <= eps)
+      {
+        continue; // reflex or flat: not an ear
+      }
+      bool empty = true;
+      for (std::size_t j = 0; j < n && empty; ++j)
+      {
+        const int iq = v[j];
+        if (iq == ia || iq == ib || iq == ic)
+        {
+          continue;
+        }
+        const Point2& q = p[iq];
+        if ((q.X == p[ia].X && q.Y == p[ia].Y) || (q.X == p[ic].X && q.Y == p[ic].Y))
+        {
+          continue;
+        }
+        // Only reflex vertices can lie inside an ear of a simple polygon.
+        const double turn = Cross2(p[v[(j + n - 1) % n]], q, p[v[(j + 1) % n]]);
+        if (turn <= eps && PointInTriangle(q, p[ia], p[ib], p[ic], eps))
+        {
+          empty = false;
+        }
+      }
+      if (empty)
+      {
+        ear = i;
+      }
+    }
+    if (ear == n)
+    {
+      // No clean ear (numerically degenerate outline): cut the vertex with
+      // the largest turn, which is the least harmful choice.
+      double best = -std::numeric_limits<double>::max();
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        const double t = Cross2(p[v[(i + n - 1) % n]], p[v[i]], p[v[(i + 1) % n]]);
+        if (t > best)
+        {
+          best = t;
+          ear = i;
+        }
+      }
+    }
+    const int ia = v[(ear + n - 1) % n], ib = v[ear], ic = v[(ear + 1) % n];
+    if (Cross2(p[ia], p[ib], p[ic]) > 0.0)
+    {
+      triangles.push_back({ ia, ib, ic });
+    }
+    v.erase(v.begin() + static_cast<std::ptrdiff_t>(ear));
+  }
+  if (v.size() == 3 && Cross2(p[v[0]], p[v[1]], p[v[2]]) > 0.0)
+  {
+    triangles.push_back(v);
+  }
+}
+
+// Hertel-Mehlhorn style greedy merge: join two pieces across a shared
+// diagonal whenever the union stays convex. At most 4x the optimal count.
+void MergeConvex(const std::vector<Point2>& p, std::vector<std::vector<int>>& pieces, double eps)
+{
+  bool merged = true;
+  while (merged)
+  {
+    merged = false;
+    for (std::size_t i = 0; i < pieces.size() && !merged; ++i)
+    {
+      for (std::size_t j = i + 1; j < pieces.size() && !merged; ++j)
+      {
+        const std::vector<int>& A = pieces[i];
+        const std::vector<int>& B = pieces[j];
+        for (std::size_t ka = 0; ka < A.size() && !merged; ++ka)
+        {
+          const int a = A[ka], b = A[(ka + 1) % A.size()];
+          for (std::size_t kb = 0; kb < B.size(); ++kb)
+          {
+            if (B[kb] != b || B[(kb + 1) % B.size()] != a)
+            {
+              continue;
+            }
+            // A walked from b round to a, then B's vertices strictly between a and b.
+            std::vector<int> cycle;
+            for (std::size_t t = 0; t < A.size(); ++t)
+            {
+              cycle.push_back(A[(ka + 1 + t) % A.size()]);
+            }
+            for (std::size_t t = 2; t < B.size(); ++t)
+            {
+              cycle.push_back(B[(kb + t) % B.size()]);
+            }
+            if (IsConvex(p, cycle, eps))
+            {
+              pieces[i] = cycle;
+              pieces.erase(pieces.begin() + static_cast<std::ptrdiff_t>(j));
+              merged = true;
+            }
+            break;
+          }
+        }
+      }
+    }
+  }
+}
+
+// Andrew's monotone chain; counter-clockwise, no collinear points.
+std::vector<int> ConvexHull(const std::vector<Point2>& p)
+{
+  std::vector<int> idx(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i)
+  {
+    idx[i] = static_cast<int>(i);
+  }
+  std::sort(idx.begin(), idx.end(),
+    [&p](int a, int b) { return p[a].X < p[b].X || (p[a].X == p[b].X && p[a].Y < p[b].Y); });
+  std::vector<int> hull(2 * idx.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < idx.size(); ++i)
+  {
+    while (k >= 2 && Cross2(p[hull[k - 2]], p[hull[k - 1]], p[idx[i]]) <= 0.0)
+    {
+      --k;
+    }
+    hull[k++] = idx[i];
+  }
+  for (std::size_t i = idx.size() - 1, t = k + 1; i > 0; --i)
+  {
+    while (k >= t && Cross2(p[hull[k - 2]], p[hull[k - 1]], p[idx[i - 1]]) <= 0.0)
+    {
+      --k;
+    }
+    hull[k++] = idx[i - 1];
+  }
+  hull.resize(k > 1 ? k - 1 : k);
+  return hull;
+}
+
+// Largest value of Dot(normal, p) over an axis-aligned box.
+inline double BoxSupport(const Vec3& normal, const Vec3& lo, const Vec3& hi)
+{
+  return (normal.X >= 0.0 ? normal.X * hi.X : normal.X * lo.X) +
+    (normal.Y >= 0.0 ? normal.Y * hi.Y : normal.Y * lo.Y) +
+    (normal.Z >= 0.0 ? normal.Z * hi.Z : normal.Z * lo.Z);
+}
+
+inline bool BoxOutside(const CullingVolume& volume, const Vec3& lo, const Vec3& hi)
+{
+  if (hi.X < volume.BoxMin.X || lo.X > volume.BoxMax.X || hi.Y < volume.BoxMin.Y ||
+    lo.Y > volume.BoxMax.Y || hi.Z < volume.BoxMin.Z || lo.Z > volume.BoxMax.Z)
+  {
+    return true;
+  }
+  for (const Plane& plane : volume.Planes)
+  {
+    if (BoxSupport(plane.Normal, lo, hi) < plane.Offset)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+void ExpandBox(Vec3& lo, Vec3& hi, const Vec3& p)
+{
+  lo = Vec3(std::min(lo.X, p.X), std::min(lo.Y, p.Y), std::min(lo.Z, p.Z));
+  hi = Vec3(std::max(hi.X, p.X), std::max(hi.Y, p.Y), std::max(hi.Z, p.Z));
+}
+
+const Vec3 EmptyLo(
+  std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+const Vec3 EmptyHi = -EmptyLo;
+
+} // namespace
+
+OccluderSet::OccluderSet(const Scene& scene)
+{
+  this->Build(scene);
+}
+
+void OccluderSet::Build(const Scene& scene)
+{
+  this->Polygons.clear();
+  this->Pieces.clear();
+  this->PieceVertices.clear();
+  this->PiecePoints2D.clear();
+  this->HullVertices.clear();
+  this->HullPoints2D.clear();
+  this->Nodes.clear();
+  this->Items.clear();
+
+  double maxAbs = 0.0;
+  for (const Surface& s : scene.Surfaces)
+  {
+    for (const Vec3& v : s.Vertices)
+    {
+      maxAbs = std::max({ maxAbs, std::abs(v.X), std::abs(v.Y), std::abs(v.Z) });
+    }
+  }
+  this->Extent = scene.Size();
+  this->Tolerance = 1e-12 * this->Extent + 64.0 * DBL_EPSILON * maxAbs;
+  this->PlaneTolerance = 1e-14 * this->Extent + 16.0 * DBL_EPSILON * maxAbs;
+
+  std::vector<Point2> p2;
+  std::vector<std::vector<int>> pieces;
+  for (const Surface& s : scene.Surfaces)
+  {
+    PreparedPolygon poly;
+    const PolygonGeometry g = ComputePolygonGeometry(s.Vertices);
+    poly.Normal = g.Normal;
+    poly.Offset = g.Offset;
+    poly.Area = g.Area;
+    poly.Diameter = g.Diameter;
+    poly.Centroid = g.Centroid;
+    poly.BoundsMin = EmptyLo;
+    poly.BoundsMax = EmptyHi;
+    for (const Vec3& v : s.Vertices)
+    {
+      ExpandBox(poly.BoundsMin, poly.BoundsMax, v);
+    }
+    poly.FirstPiece = static_cast<int>(this->Pieces.size());
+    poly.FirstHullPoint = static_cast<int>(this->HullVertices.size());
+    const std::size_t n = s.Vertices.size();
+    poly.Valid = n >= 3 && g.Area > 0.0 && std::isfinite(g.Area) &&
+      g.Area > 1e-14 * g.Diameter * g.Diameter;
+    if (!poly.Valid)
+    {
+      poly.Normal = Vec3();
+      this->Polygons.push_back(poly);
+      continue;
+    }
+    // In-plane frame from the longest edge, so that it is well conditioned.
+    Vec3 edge;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const Vec3 e = s.Vertices[(i + 1) % n] - s.Vertices[i];
+      if (SquaredLength(e) > SquaredLength(edge))
+      {
+        edge = e;
+      }
+    }
+    poly.AxisU = Normalized(edge - poly.Normal * Dot(poly.Normal, edge));
+    poly.AxisV = Cross(poly.Normal, poly.AxisU);
+
+    p2.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const Vec3 d = s.Vertices[i] - poly.Centroid;
+      p2[i] = { Dot(d, poly.AxisU), Dot(d, poly.AxisV) };
+    }
+    const double eps = 1e-12 * poly.Diameter * poly.Diameter;
+
+    std::vector<int> all(n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      all[i] = static_cast<int>(i);
+    }
+    pieces.clear();
+    if (IsConvex(p2, all, eps))
+    {
+      pieces.push_back(all);
+    }
+    else
+    {
+      EarClip(p2, pieces, eps);
+      MergeConvex(p2, pieces, eps);
+    }
+    for (std::vector<int>& piece : pieces)
+    {
+      RemoveCollinear(p2, piece, eps);
+      ConvexPiece cp;
+      cp.First = static_cast<int>(this->PieceVertices.size());
+      cp.Count = static_cast<int>(piece.size());
+      for (int i : piece)
+      {
+        // World coordinates rebuilt from the frame so that the 2D and 3D
+        // copies describe exactly the same planar polygon.
+        this->PieceVertices.push_back(
+          poly.Centroid + poly.AxisU * p2[i].X + poly.AxisV * p2[i].Y);
+        this->PiecePoints2D.push_back(p2[i].X);
+        this->PiecePoints2D.push_back(p2[i].Y);
+      }
+      this->Pieces.push_back(cp);
+    }
+    poly.NumberOfPieces = static_cast<int>(this->Pieces.size()) - poly.FirstPiece;
+
+    for (int i : ConvexHull(p2))
+    {
+      this->HullVertices.push_back(poly.Centroid + poly.AxisU * p2[i].X + poly.AxisV * p2[i].Y);
+      this->HullPoints2D.push_back(p2[i].X);
+      this->HullPoints2D.push_back(p2[i].Y);
+    }
+    poly.NumberOfHullPoints = static_cast<int>(this->HullVertices.size()) - poly.FirstHullPoint;
+    this->Polygons.push_back(poly);
+  }
+
+  std::vector<Vec3> centres;
+  for (int i = 0; i < this->GetNumberOfPolygons(); ++i)
+  {
+    if (this->Polygons[i].Valid)
+    {
+      this->Items.push_back(i);
+      centres.push_back((this->Polygons[i].BoundsMin + this->Polygons[i].BoundsMax) * 0.5);
+    }
+  }
+  if (!this->Items.empty())
+  {
+    this->BuildNode(0, static_cast<int>(this->Items.size()), centres);
+  }
+}
+
+int OccluderSet::BuildNode(int first, int count, std::vector<Vec3>& centres)
+{
+  const int index = static_cast<int>(this->Nodes.size());
+  this->Nodes.emplace_back();
+  Vec3 lo = EmptyLo, hi = EmptyHi, clo = EmptyLo, chi = EmptyHi;
+  for (int i = first; i < first + count; ++i)
+  {
+    const PreparedPolygon& p = this->Polygons[this->Items[i]];
+    ExpandBox(lo, hi, p.BoundsMin);
+    ExpandBox(lo, hi, p.BoundsMax);
+    ExpandBox(clo, chi, centres[i]);
+  }
+  this->Nodes[index].Min = lo;
+  this->Nodes[index].Max = hi;
+  constexpr int LeafSize = 4;
+  if (count <= LeafSize)
+  {
+    this->Nodes[index].First = first;
+    this->Nodes[index].Count = count;
+    return index;
+  }
+  // Median split along the widest axis of the centres: balanced, so the
+  // traversal stack stays shallow.
+  const Vec3 ext = chi - clo;
+  const int axis = (ext.X >= ext.Y && ext.X >= ext.Z) ? 0 : (ext.Y >= ext.Z ? 1 : 2);
+  const int half = count / 2;
+  std::vector<int> order(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i)
+  {
+    order[i] = first + i;
+  }
+  std::nth_element(order.begin(), order.begin() + half, order.end(),
+    [&centres, axis](int a, int b) { return centres[a][axis] < centres[b][axis]; });
+  std::vector<int> items(static_cast<std::size_t>(count));
+  std::vector<Vec3> cs(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i)
+  {
+    items[i] = this->Items[order[i]];
+    cs[i] = centres[order[i]];
+  }
+  std::copy(items.begin(), items.end(), this->Items.begin() + first);
+  std::copy(cs.begin(), cs.end(), centres.begin() + first);
+  this->BuildNode(first, half, centres);
+  const int right = this->BuildNode(first + half, count - half, centres);
+  this->Nodes[index].First = right;
+  this->Nodes[index].Count = 0;
+  return index;
+}
+
+bool OccluderSet::MayIntersect(const CullingVolume& volume, int id) const
+{
+  const PreparedPolygon& p = this->Polygons[id];
+  if (!p.Valid || BoxOutside(volume, p.BoundsMin, p.BoundsMax))
+  {
+    return false;
+  }
+  // The hull vertices decide exactly whether the polygon is outside a plane.
+  const Vec3* hull = this->HullVertices.data() + p.FirstHullPoint;
+  for (const Plane& plane : volume.Planes)
+  {
+    bool outside = true;
+    for (int k = 0; k < p.NumberOfHullPoints && outside; ++k)
+    {
+      outside = Dot(plane.Normal, hull[k]) < plane.Offset;
+    }
+    if (outside)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+void OccluderSet::VolumeCandidates(
+  const CullingVolume& volume, int excludeA, int excludeB, std::vector<int>& candidates) const
+{
+  candidates.clear();
+  if (this->Nodes.empty())
+  {
+    return;
+  }
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0)
+  {
+    const Node& node = this->Nodes[stack[--top]];
+    if (BoxOutside(volume, node.Min, node.Max))
+    {
+      continue;
+    }
+    if (node.Count > 0)
+    {
+      for (int i = node.First; i < node.First + node.Count; ++i)
+      {
+        const int id = this->Items[i];
+        if (id != excludeA && id != excludeB && this->MayIntersect(volume, id))
+        {
+          candidates.push_back(id);
+        }
+      }
+    }
+    else
+    {
+      const int self = static_cast<int>(&node - this->Nodes.data());
+      stack[top++] = node.First; // right child
+      stack[top++] = self + 1;   // left child
+    }
+  }
+}
+
+void OccluderSet::FilterCandidates(const CullingVolume& volume, const int* ids, int count,
+  int excludeA, int excludeB, std::vector<int>& candidates) const
+{
+  for (int i = 0; i < count; ++i)
+  {
+    const int id = ids[i];
+    if (id != excludeA && id != excludeB && this->MayIntersect(volume, id))
+    {
+      candidates.push_back(id);
+    }
+  }
+}
+
+bool OccluderSet::BuildShaft(int shooterId, int receiverId, CullingVolume& shaft) const
+{
+  const PreparedPolygon& s = this->Polygons[shooterId];
+  const PreparedPolygon& r = this->Polygons[receiverId];
+  if (!s.Valid || !r.Valid)
+  {
+    return false;
+  }
+  const Vec3* sh = this->HullVertices.data() + s.FirstHullPoint;
+  const Vec3* rh = this->HullVertices.data() + r.FirstHullPoint;
+  const int ns = s.NumberOfHullPoints, nr = r.NumberOfHullPoints;
+  // The pair exchanges light only if part of the receiver is in front of the
+  // shooter and part of the shooter in front of the receiver.
+  double rFront = -std::numeric_limits<double>::max();
+  for (int k = 0; k < nr; ++k)
+  {
+    rFront = std::max(rFront, Dot(s.Normal, rh[k]) - s.Offset);
+  }
+  double sFront = -std::numeric_limits<double>::max();
+  for (int k = 0; k < ns; ++k)
+  {
+    sFront = std::max(sFront, Dot(r.Normal, sh[k]) - r.Offset);
+  }
+  if (rFront <= this->Tolerance || sFront <= this->Tolerance)
+  {
+    return false;
+  }
+  const double tol = this->Tolerance;
+  shaft.Planes.clear();
+  shaft.Planes.push_back({ s.Normal, s.Offset + tol });
+  shaft.Planes.push_back({ r.Normal, r.Offset + tol });
+  shaft.BoxMin = Vec3(std::min(s.BoundsMin.X, r.BoundsMin.X) - tol,
+    std::min(s.BoundsMin.Y, r.BoundsMin.Y) - tol, std::min(s.BoundsMin.Z, r.BoundsMin.Z) - tol);
+  shaft.BoxMax = Vec3(std::max(s.BoundsMax.X, r.BoundsMax.X) + tol,
+    std::max(s.BoundsMax.Y, r.BoundsMax.Y) + tol, std::max(s.BoundsMax.Z, r.BoundsMax.Z) + tol);
+
+  // Faces of the convex hull of both polygons: planes through an edge of one
+  // hull and a vertex of the other that have every point on one side. The
+  // offset is the extreme value over all points, so each plane is a valid
+  // supporting plane whatever the rounding.
+  const double faceEps = 1e-9 * (s.Diameter + r.Diameter);
+  auto addFaces = [&](const Vec3* a, int na, const Vec3* b, int nb) {
+    for (int i = 0; i < na; ++i)
+    {
+      const Vec3& p0 = a[i];
+      const Vec3& p1 = a[(i + 1) % na];
+      for (int j = 0; j < nb; ++j)
+      {
+        const Vec3 normal = Normalized(Cross(p1 - p0, b[j] - p0));
+        if (SquaredLength(normal) == 0.0)
+        {
+          continue;
+        }
+        double lo = std::numeric_limits<double>::max(), hi = -lo;
+        for (int k = 0; k < ns; ++k)
+        {
+          const double d = Dot(normal, sh[k]);
+          lo = std::min(lo, d);
+          hi = std::max(hi, d);
+        }
+        for (int k = 0; k < nr; ++k)
+        {
+          const double d = Dot(normal, rh[k]);
+          lo = std::min(lo, d);
+          hi = std::max(hi, d);
+        }
+        const double d0 = Dot(normal, p0);
+        Plane plane;
+        if (hi - d0 <= faceEps)
+        {
+          plane = { -normal, -hi - tol };
+        }
+        else if (d0 - lo <= faceEps)
+        {
+          plane = { normal, lo - tol };
+        }
+        else
+        {
+          continue;
+        }
+        bool duplicate = false;
+        for (const Plane& q : shaft.Planes)
+        {
+          if (Dot(q.Normal, plane.Normal) > 1.0 - 1e-12 && std::abs(q.Offset - plane.Offset) <= tol)
+          {
+            duplicate = true;
+            break;
+          }
+        }
+        if (!duplicate)
+        {
+          shaft.Planes.push_back(plane);
+        }
+      }
+    }
+  };
+  addFaces(sh, ns, rh, nr);
+  addFaces(rh, nr, sh, ns);
+  return true;
+}
+
+bool OccluderSet::ShaftCandidates(int shooterId, int receiverId, std::vector<int>& candidates) const
+{
+  candidates.clear();
+  CullingVolume shaft;
+  if (!this->BuildShaft(shooterId, receiverId, shaft))
+  {
+    return false;
+  }
+  this->VolumeCandidates(shaft, shooterId, receiverId, candidates);
+  std::sort(candidates.begin(), candidates.end());
+  return true;
+}
+
+bool OccluderSet::BuildFrustum(
+  const Vec3& x, const Vec3& n, int shooterId, CullingVolume& frustum) const
+{
+  const PreparedPolygon& s = this->Polygons[shooterId];
+  if (!s.Valid)
+  {
+    return false;
+  }
+  const Vec3 dx = x - s.Centroid;
+  const double hx = Dot(dx, s.Normal);
+  if (!(hx > 0.0))
+  {
+    return false;
+  }
+  const double xu = Dot(dx, s.AxisU), xv = Dot(dx, s.AxisV);
+  const double nu = Dot(n, s.AxisU), nv = Dot(n, s.AxisV), nw = Dot(n, s.Normal);
+  // x's front half-space restricted to the shooter's plane, in its frame.
+  const double c = -(nu * xu + nv * xv + nw * hx);
+
+  constexpr int StackPoints = 64;
+  double stackBuffer[4 * StackPoints];
+  std::vector<double> heapBuffer;
+  double* clipped = stackBuffer;
+  const int nh = s.NumberOfHullPoints;
+  if (nh + 1 > 2 * StackPoints)
+  {
+    heapBuffer.resize(static_cast<std::size_t>(4 * nh + 4));
+    clipped = heapBuffer.data();
+  }
+  const int m = ClipPolygon2D(
+    this->HullPoints2D.data() + 2 * s.FirstHullPoint, nh, nu, nv, c, clipped);
+  if (m < 3)
+  {
+    return false;
+  }
+  const double tol = this->Tolerance;
+  frustum.Planes.clear();
+  frustum.BoxMin = x;
+  frustum.BoxMax = x;
+  for (int k = 0; k < m; ++k)
+  {
+    const int k1 = (k + 1) % m;
+    // Pyramid face through x and the edge k -> k1 (local x-relative coordinates).
+    const Vec3 r0(clipped[2 * k] - xu, clipped[2 * k + 1] - xv, -hx);
+    const Vec3 r1(clipped[2 * k1] - xu, clipped[2 * k1 + 1] - xv, -hx);
+    const Vec3 local = Cross(r1, r0);
+    const Vec3 normal = Normalized(s.AxisU * local.X + s.AxisV * local.Y + s.Normal * local.Z);
+    if (SquaredLength(normal) > 0.0)
+    {
+      frustum.Planes.push_back({ normal, Dot(normal, x) - tol });
+    }
+    ExpandBox(frustum.BoxMin, frustum.BoxMax,
+      s.Centroid + s.AxisU * clipped[2 * k] + s.AxisV * clipped[2 * k + 1]);
+  }
+  // The slab strictly between the shooter's plane and x, and x's front.
+  frustum.Planes.push_back({ s.Normal, s.Offset + tol });
+  frustum.Planes.push_back({ -s.Normal, -Dot(s.Normal, x) - tol });
+  frustum.Planes.push_back({ n, Dot(n, x) + tol });
+  frustum.BoxMin -= Vec3(tol, tol, tol);
+  frustum.BoxMax += Vec3(tol, tol, tol);
+  return true;
+}
+
+} // namespace penumbra

@@ -1,0 +1,117 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkRadianceEvaluator
+ * @brief   Radiance at sample points from the scene's shooters (paper §5).
+ *
+ * Input port 0 holds the sample points: any vtkPolyData whose points lie on
+ * the scene's surfaces, each point's surface given by a `SurfaceId` point
+ * array or, failing that, by the `SurfaceId` cell array of a cell that uses
+ * the point (the output of vtkDiscontinuityMesher is such a mesh). Input
+ * port 1 is the scene (see vtkPenumbraSceneValidator for its contract).
+ *
+ * For every sample x on receiver i the filter computes the radiance
+ * contributed by each selected shooter j of constant radiance L^e_j,
+ *
+ *   L_ij(x) = rho_i / pi * E_ij(x),   E_ij(x) = pi L^e_j F_j(x),
+ *
+ * where F_j(x) is the form factor from x to the part of shooter j visible
+ * from x, and writes the point array `Radiance` (3 components, W sr^-1 m^-2,
+ * active scalars) = L^e_i (when IncludeEmission is on) + sum_j L_ij(x).
+ * Method Exact clips each shooter to x's front half-space, subtracts the
+ * shadows of the occluders found by shaft and pyramid culling and integrates
+ * the visible region in closed form (Lambert). Method RayCast estimates the
+ * same integral by adaptive subdivision of the shooter with Embree occlusion
+ * rays (paper Eq. 6). The output is the input with this array added.
+ *
+ * Work is spread over threads with vtkSMPTools; every point is computed
+ * independently, so the output does not depend on the number of threads.
+ *
+ * @sa vtkDiscontinuityMesher vtkPenumbraSceneValidator
+ */
+#ifndef vtkRadianceEvaluator_h
+#define vtkRadianceEvaluator_h
+
+#include "vtkPenumbraFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <vector> // for std::vector
+
+class VTKPENUMBRAFILTERS_EXPORT vtkRadianceEvaluator : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkRadianceEvaluator* New();
+  vtkTypeMacro(vtkRadianceEvaluator, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Evaluation methods.
+  enum Methods
+  {
+    EXACT = 0,   ///< visible region + closed-form integral (default)
+    RAY_CAST = 1 ///< adaptive shooter subdivision with occlusion rays
+  };
+
+  ///@{
+  /**
+   * How contributed radiance is computed: EXACT (0, default) or RAY_CAST (1).
+   */
+  vtkSetClampMacro(Method, int, EXACT, RAY_CAST);
+  vtkGetMacro(Method, int);
+  void SetMethodToExact() { this->SetMethod(EXACT); }
+  void SetMethodToRayCast() { this->SetMethod(RAY_CAST); }
+  ///@}
+
+  ///@{
+  /**
+   * Relative tolerance of the ray-cast method's adaptive subdivision of the
+   * shooter: a piece is split while splitting changes its estimate by more
+   * than this fraction. Default 1e-3, range [1e-9, 1]. Ignored by EXACT.
+   */
+  vtkSetClampMacro(RayCastTolerance, double, 1e-9, 1.0);
+  vtkGetMacro(RayCastTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Whether `Radiance` includes the receiver's own emission L^e_i (on, the
+   * default) or only the contributed radiance.
+   */
+  vtkSetMacro(IncludeEmission, bool);
+  vtkGetMacro(IncludeEmission, bool);
+  vtkBooleanMacro(IncludeEmission, bool);
+  ///@}
+
+  ///@{
+  /**
+   * The shooters: scene cell ids. Empty (the default) means every surface
+   * with non-zero Emission. An id that is not a scene cell is an error.
+   */
+  void AddShooterId(vtkIdType id);
+  void RemoveAllShooterIds();
+  vtkIdType GetNumberOfShooterIds() const;
+  vtkIdType GetShooterId(vtkIdType index) const;
+  ///@}
+
+  /**
+   * Connect the scene (input port 1).
+   */
+  void SetSceneConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+  void SetSceneData(vtkDataObject* scene) { this->SetInputData(1, scene); }
+
+protected:
+  vtkRadianceEvaluator();
+  ~vtkRadianceEvaluator() override = default;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Method = EXACT;
+  double RayCastTolerance = 1e-3;
+  bool IncludeEmission = true;
+  std::vector<vtkIdType> ShooterIds;
+
+private:
+  vtkRadianceEvaluator(const vtkRadianceEvaluator&) = delete;
+  void operator=(const vtkRadianceEvaluator&) = delete;
+};
+
+#endif

@@ -1,0 +1,197 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""vtkRadianceEvaluator: closed-form values through the filter, thread-count
+independence, settings and error paths."""
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkPoints
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+
+import penumbra
+
+
+def corner_form_factor(a, b, c):
+    """Differential area to a parallel a x b rectangle at distance c, above a corner."""
+    x, y = a / c, b / c
+    return (x / math.sqrt(1 + x * x) * math.atan(y / math.sqrt(1 + x * x))
+            + y / math.sqrt(1 + y * y) * math.atan(x / math.sqrt(1 + y * y))) / (2 * math.pi)
+
+
+def parallel_rectangle_form_factor(px, pz, x0, x1, z0, z1, height):
+    """A point under an axis-aligned rectangle: sum of signed corner rectangles."""
+    total = 0.0
+    for xa, sx in ((x1, 1), (x0, -1)):
+        for za, sz in ((z1, 1), (z0, -1)):
+            dx, dz = xa - px, za - pz
+            total += sx * sz * math.copysign(1, dx) * math.copysign(1, dz) * corner_form_factor(
+                abs(dx), abs(dz), height)
+    return total
+
+
+def samples(points, surface_id):
+    data = vtkPolyData()
+    pts = vtkPoints()
+    pts.SetDataTypeToDouble()
+    verts = vtkCellArray()
+    ids = vtkIntArray()
+    ids.SetName("SurfaceId")
+    for p in points:
+        verts.InsertNextCell(1)
+        verts.InsertCellPoint(pts.InsertNextPoint(p))
+        ids.InsertNextValue(surface_id)
+    data.SetPoints(pts)
+    data.SetVerts(verts)
+    data.GetCellData().AddArray(ids)
+    return data
+
+
+def cell_of(scene, predicate):
+    for i in range(scene.GetNumberOfCells()):
+        if predicate(np.array(scene.GetCell(i).GetPoints().GetData())):
+            return i
+    raise LookupError
+
+
+def evaluate(scene, sample_data, **settings):
+    evaluator = penumbra.vtkRadianceEvaluator()
+    evaluator.SetInputData(0, sample_data)
+    evaluator.SetSceneData(scene)
+    for name, value in settings.items():
+        getattr(evaluator, "Set" + name)(value)
+    return penumbra.run_filter(evaluator)
+
+
+def quads_scene(quads, reflectance, emission):
+    data = vtkPolyData()
+    pts = vtkPoints()
+    pts.SetDataTypeToDouble()
+    polys = vtkCellArray()
+    for quad in quads:
+        polys.InsertNextCell(len(quad))
+        for p in quad:
+            polys.InsertCellPoint(pts.InsertNextPoint(p))
+    data.SetPoints(pts)
+    data.SetPolys(polys)
+    for name, values in (("Reflectance", reflectance), ("Emission", emission)):
+        array = vtkDoubleArray()
+        array.SetName(name)
+        array.SetNumberOfComponents(3)
+        for v in values:
+            array.InsertNextTuple3(*v)
+        data.GetCellData().AddArray(array)
+    return data
+
+
+def test_cornell_floor_point_matches_closed_form():
+    """Cornell floor and light only (metres, light at 548.8 mm, facing down):
+    F = 0.0142070 at (278, 0, 279.5) mm (design.md), recomputed here."""
+    floor = [(0.5528, 0, 0), (0, 0, 0), (0, 0, 0.5592), (0.5496, 0, 0.5592)]
+    light = [(0.343, 0.5488, 0.227), (0.343, 0.5488, 0.332), (0.213, 0.5488, 0.332),
+             (0.213, 0.5488, 0.227)]
+    rho, le = (0.725, 0.71, 0.68), (17.0, 12.0, 4.0)
+    scene = quads_scene([floor, light], [rho, (0, 0, 0)], [(0, 0, 0), le])
+    x = (0.278, 0.0, 0.2795)
+    f = parallel_rectangle_form_factor(x[0], x[2], 0.213, 0.343, 0.227, 0.332, 0.5488)
+    assert abs(f - 0.0142070) < 5e-8
+    result = evaluate(scene, samples([x], 0))
+    radiance = vtk_to_numpy(result.GetPointData().GetArray("Radiance"))[0]
+    assert np.allclose(radiance, np.array(rho) * np.array(le) * f, rtol=1e-12, atol=0)
+    assert result.GetPointData().GetScalars().GetName() == "Radiance"
+
+
+def test_cornell_blocks_shadow_the_floor():
+    """The same point in the full box lies 12 mm in front of the tall block,
+    which hides part of the light: less than the unoccluded value, not zero."""
+    scene = penumbra.load_scene("cornell")
+    floor = cell_of(scene, lambda p: np.allclose(p[:, 1], 0) and np.ptp(p[:, 0]) > 0.5)
+    x = (0.278, 0.0, 0.2795)
+    unoccluded = 0.725 * 17 * parallel_rectangle_form_factor(
+        x[0], x[2], 0.213, 0.343, 0.227, 0.332, 0.5483)
+    red = vtk_to_numpy(evaluate(scene, samples([x], floor)).GetPointData().GetArray("Radiance"))[0, 0]
+    assert 0.2 * unoccluded < red < 0.95 * unoccluded
+
+
+def test_emission_is_included_on_emitters_and_can_be_left_out():
+    scene = penumbra.load_scene("cornell")
+    emission = vtk_to_numpy(scene.GetCellData().GetArray("Emission"))
+    light = int(np.nonzero(emission.max(axis=1))[0][0])
+    centre = np.array(scene.GetCell(light).GetPoints().GetData()).mean(axis=0)
+    with_emission = evaluate(scene, samples([centre], light))
+    radiance = vtk_to_numpy(with_emission.GetPointData().GetArray("Radiance"))[0]
+    assert np.allclose(radiance, emission[light])  # the light sees no other emitter
+    without = evaluate(scene, samples([centre], light), IncludeEmission=False)
+    assert np.allclose(vtk_to_numpy(without.GetPointData().GetArray("Radiance"))[0], 0)
+
+
+SCRIPT = r'''
+import sys
+import numpy as np
+from vtkmodules.vtkCommonCore import vtkSMPTools
+vtkSMPTools.Initialize(int(sys.argv[1]))
+from vtkmodules.util.numpy_support import vtk_to_numpy
+import penumbra
+sys.path.insert(0, sys.argv[2])
+from test_evaluator import samples, evaluate, cell_of
+scene = penumbra.load_scene("seven")
+floor = cell_of(scene, lambda p: np.allclose(p[:, 1], 0))
+rng = np.random.default_rng(5)
+pts = np.column_stack([rng.uniform(-1.5, 1.5, 4000), np.zeros(4000), rng.uniform(-1.5, 1.5, 4000)])
+out = evaluate(scene, samples(pts, floor))
+np.save(sys.argv[3], vtk_to_numpy(out.GetPointData().GetArray("Radiance")))
+print(vtkSMPTools.GetEstimatedNumberOfThreads())
+'''
+
+
+def test_one_and_two_threads_give_identical_output(tmp_path):
+    import os
+    here = os.path.dirname(os.path.abspath(__file__))
+    results = []
+    for threads in (1, 2):
+        out = tmp_path / ("t%d.npy" % threads)
+        run = subprocess.run([sys.executable, "-c", SCRIPT, str(threads), here, str(out)],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             universal_newlines=True)
+        assert run.returncode == 0, run.stderr
+        results.append(np.load(out))
+    assert np.array_equal(results[0], results[1])
+    assert results[0].max() > 0 and np.isfinite(results[0]).all() and results[0].min() >= 0
+
+
+def test_settings_and_print_self():
+    evaluator = penumbra.vtkRadianceEvaluator()
+    assert evaluator.GetMethod() == evaluator.EXACT
+    evaluator.SetMethod(7)
+    assert evaluator.GetMethod() == evaluator.RAY_CAST
+    evaluator.SetRayCastTolerance(0)
+    assert evaluator.GetRayCastTolerance() == 1e-9
+    evaluator.AddShooterId(3)
+    text = str(evaluator)
+    for fragment in ("Method: RAY_CAST", "RayCastTolerance: 1e-09", "IncludeEmission: On",
+                     "ShooterIds: 3"):
+        assert fragment in text
+
+
+def test_errors_name_the_problem():
+    scene = penumbra.load_scene("cornell")
+    bad = samples([(0.1, 0, 0.1)], 99)
+    with pytest.raises(penumbra.PenumbraError, match="sample point 0 has SurfaceId 99"):
+        evaluate(scene, bad)
+    no_ids = samples([(0.1, 0, 0.1)], 0)
+    no_ids.GetCellData().RemoveArray("SurfaceId")
+    with pytest.raises(penumbra.PenumbraError, match="no 'SurfaceId'"):
+        evaluate(scene, no_ids)
+    evaluator = penumbra.vtkRadianceEvaluator()
+    evaluator.SetInputData(0, samples([(0.1, 0, 0.1)], 0))
+    evaluator.SetSceneData(scene)
+    evaluator.AddShooterId(1000)
+    with pytest.raises(penumbra.PenumbraError, match="ShooterIds: 1000"):
+        penumbra.run_filter(evaluator)
+
+
+def test_empty_samples_give_empty_output():
+    result = evaluate(penumbra.load_scene("cornell"), vtkPolyData())
+    assert result.GetNumberOfPoints() == 0
