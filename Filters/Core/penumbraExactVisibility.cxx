@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace penumbra
 {
@@ -18,19 +19,6 @@ constexpr double PieceAreaFraction = 1e-14;
 // line count as on it, so that no sliver is created.
 constexpr double LineEpsilonFraction = 1e-13;
 
-double Area2D(const double* p, int count)
-{
-  double twice = 0.0;
-  double px = p[2 * (count - 1)], py = p[2 * (count - 1) + 1];
-  for (int k = 0; k < count; ++k)
-  {
-    twice += px * p[2 * k + 1] - py * p[2 * k];
-    px = p[2 * k];
-    py = p[2 * k + 1];
-  }
-  return 0.5 * twice;
-}
-
 // Everything one query needs about the shooter and the point, in the
 // shooter's frame: x = centroid + xu*U + xv*V + hx*N, receiver normal nl.
 struct QueryFrame
@@ -43,110 +31,445 @@ struct QueryFrame
   double LineEps;
 };
 
-// Subtract the shadow {p : a*u + b*v + c >= 0 for every line} from the
-// current pieces of the workspace. Returns the number of pieces left.
-int SubtractShadow(VisibilityWorkspace& ws, const double* lines, int numberOfLines, double minArea,
-  double eps)
+using PieceBuffer = VisibilityWorkspace::PieceBuffer;
+
+// Grow a scratch vector (never shrinks, so the query stays allocation-free
+// once the buffers are large enough). Invalidates pointers into it.
+template <typename T>
+inline T* Reserve(std::vector<T>& v, std::size_t n)
 {
-  ws.NextPoints.clear();
-  ws.NextStarts.clear();
-  const int numberOfPieces = static_cast<int>(ws.Starts.size()) - 1;
-  for (int piece = 0; piece < numberOfPieces; ++piece)
+  if (v.size() < n)
   {
-    const int first = ws.Starts[piece];
-    const int count = (ws.Starts[piece + 1] - first) / 2;
-    const double* pts = ws.Points.data() + first;
-    const std::size_t markPoints = ws.NextPoints.size();
-    const std::size_t markStarts = ws.NextStarts.size();
-    ws.Remainder.assign(pts, pts + 2 * count);
-    bool untouched = false;
-    for (int l = 0; l < numberOfLines && !untouched; ++l)
+    v.resize(std::max(n, 2 * v.size()));
+  }
+  return v.data();
+}
+
+// Room for `morePieces` more index entries and `moreDoubles` more coordinates.
+inline void ReservePieces(PieceBuffer& b, int indexEnd, int morePieces, int moreDoubles)
+{
+  Reserve(b.Points, static_cast<std::size_t>(b.Used + moreDoubles));
+  Reserve(b.Starts, static_cast<std::size_t>(indexEnd + morePieces));
+  Reserve(b.Sizes, static_cast<std::size_t>(indexEnd + morePieces));
+  Reserve(b.Boxes, static_cast<std::size_t>(4 * (indexEnd + morePieces)));
+}
+
+// Register the polygon just written at Points[Used ...] as index entry `index`.
+inline void CommitPiece(PieceBuffer& b, int index, int count, const double box[4])
+{
+  std::copy(box, box + 4, b.Boxes.data() + 4 * index);
+  b.Starts[index] = b.Used;
+  b.Sizes[index] = count;
+  b.Used += 2 * count;
+}
+
+// Bounds and twice the signed area of a 2D polygon.
+inline double BoundsAndArea(const double* p, int count, double box[4])
+{
+  box[0] = box[1] = p[0];
+  box[2] = box[3] = p[1];
+  double twice = 0.0;
+  double px = p[2 * (count - 1)], py = p[2 * (count - 1) + 1];
+  for (int k = 0; k < count; ++k)
+  {
+    const double x = p[2 * k], y = p[2 * k + 1];
+    box[0] = std::min(box[0], x);
+    box[1] = std::max(box[1], x);
+    box[2] = std::min(box[2], y);
+    box[3] = std::max(box[3], y);
+    twice += px * y - py * x;
+    px = x;
+    py = y;
+  }
+  return twice;
+}
+
+// Twice the signed area of a 2D polygon.
+inline double TwiceArea(const double* p, int count)
+{
+  double twice = 0.0;
+  double px = p[2 * (count - 1)], py = p[2 * (count - 1) + 1];
+  for (int k = 0; k < count; ++k)
+  {
+    twice += px * p[2 * k + 1] - py * p[2 * k];
+    px = p[2 * k];
+    py = p[2 * k + 1];
+  }
+  return twice;
+}
+
+inline bool BoxesDisjoint(const double* a, const double* b)
+{
+  return a[1] < b[0] || a[0] > b[1] || a[3] < b[2] || a[2] > b[3];
+}
+
+// Drop removed pieces (Sizes == 0) from [0, indexEnd) and recompute Bounds.
+void CompactPieces(PieceBuffer& b, int indexEnd)
+{
+  int count = 0;
+  double* bounds = b.Bounds;
+  bounds[0] = bounds[2] = std::numeric_limits<double>::max();
+  bounds[1] = bounds[3] = -std::numeric_limits<double>::max();
+  for (int k = 0; k < indexEnd; ++k)
+  {
+    if (b.Sizes[k] == 0)
     {
-      const double a = lines[3 * l], b = lines[3 * l + 1], c = lines[3 * l + 2];
-      const int m = static_cast<int>(ws.Remainder.size()) / 2;
-      const double* r = ws.Remainder.data();
+      continue;
+    }
+    const double* box = b.Boxes.data() + 4 * k;
+    bounds[0] = std::min(bounds[0], box[0]);
+    bounds[1] = std::max(bounds[1], box[1]);
+    bounds[2] = std::min(bounds[2], box[2]);
+    bounds[3] = std::max(bounds[3], box[3]);
+    if (count != k)
+    {
+      b.Starts[count] = b.Starts[k];
+      b.Sizes[count] = b.Sizes[k];
+      std::copy(box, box + 4, b.Boxes.data() + 4 * count);
+    }
+    ++count;
+  }
+  b.Count = count;
+}
+
+// Whether the convex piece and the convex shadow polygon are separated by a
+// line: one of the shadow's lines, or one of the piece's edges (separating
+// axis theorem for convex polygons, with tolerance eps).
+bool Separated(const double* pts, int count, const double* box, const double* lines,
+  int numberOfLines, const double* shadow, int shadowCount, double eps)
+{
+  // Cheap first: a shadow line with the piece's whole bounding box outside.
+  for (int l = 0; l < numberOfLines; ++l)
+  {
+    const double a = lines[3 * l], b = lines[3 * l + 1], c = lines[3 * l + 2] - eps;
+    if (c + std::max(a * box[0], a * box[1]) + std::max(b * box[2], b * box[3]) <= 0.0)
+    {
+      return true;
+    }
+  }
+  for (int l = 0; l < numberOfLines; ++l)
+  {
+    const double a = lines[3 * l], b = lines[3 * l + 1], c = lines[3 * l + 2] - eps;
+    int k = 0;
+    while (k < count && a * pts[2 * k] + b * pts[2 * k + 1] + c <= 0.0)
+    {
+      ++k;
+    }
+    if (k == count)
+    {
+      return true; // no vertex of the piece inside this line
+    }
+  }
+  double px = pts[2 * (count - 1)], py = pts[2 * (count - 1) + 1];
+  for (int k = 0; k < count; ++k)
+  {
+    const double cx = pts[2 * k], cy = pts[2 * k + 1];
+    // Inward normal of the counter-clockwise edge p -> c is (py - cy, cx - px);
+    // the L1 norm stands in for the length in the tolerance.
+    const double nx = py - cy, ny = cx - px;
+    const double limit = eps * (std::abs(nx) + std::abs(ny)) + (nx * px + ny * py);
+    int j = 0;
+    while (j < shadowCount && nx * shadow[2 * j] + ny * shadow[2 * j + 1] <= limit)
+    {
+      ++j;
+    }
+    if (j == shadowCount)
+    {
+      return true; // no vertex of the shadow inside this edge
+    }
+    px = cx;
+    py = cy;
+  }
+  return false;
+}
+
+// Subtract the shadow {p : a*u + b*v + c >= 0 for every line} from the
+// visible pieces; `shadow` is a convex polygon containing the part of that
+// region in the visible hull, and shadowBox its bounds. Pieces the shadow does not meet stay where they are;
+// a piece it meets is replaced by its parts outside the shadow (one per
+// line that cuts it). Returns the number of pieces left.
+int SubtractShadow(VisibilityWorkspace& ws, const double* lines, int numberOfLines,
+  const double* shadow, int shadowCount, const double shadowBox[4], double minArea, double eps)
+{
+  PieceBuffer& b = ws.Pieces;
+  const double twiceMinArea = 2.0 * minArea;
+  const int original = b.Count;
+  int indexEnd = original; // new pieces are appended after the original ones
+  bool changed = false;
+  for (int piece = 0; piece < original; ++piece)
+  {
+    const int count = b.Sizes[piece];
+    const double* box = b.Boxes.data() + 4 * piece;
+    if (BoxesDisjoint(box, shadowBox) ||
+      Separated(b.Points.data() + b.Starts[piece], count, box, lines, numberOfLines, shadow,
+        shadowCount, eps))
+    {
+      continue; // untouched: stays in place
+    }
+    // Each split of a convex polygon adds at most one vertex and emits at
+    // most one piece; the bound is doubled in case rounding makes a piece
+    // slightly non-convex, plus one slot for the branch-free writes.
+    const int maxPoints = 2 * (count + numberOfLines) + 2;
+    ReservePieces(b, indexEnd, numberOfLines, 2 * numberOfLines * maxPoints);
+    double* rem = Reserve(ws.Remainder, static_cast<std::size_t>(2 * maxPoints));
+    double* split = Reserve(ws.Split, static_cast<std::size_t>(2 * maxPoints));
+    double* dist = Reserve(ws.Distances, static_cast<std::size_t>(maxPoints));
+    const double* pts = b.Points.data() + b.Starts[piece];
+    std::copy(pts, pts + 2 * count, rem);
+    int m = count;
+    const int markEnd = indexEnd;
+    const int markUsed = b.Used;
+    bool untouched = false;
+    for (int l = 0; l < numberOfLines; ++l)
+    {
+      const double la = lines[3 * l], lb = lines[3 * l + 1], lc = lines[3 * l + 2];
       bool anyIn = false, anyOut = false;
       for (int k = 0; k < m; ++k)
       {
-        const double s = a * r[2 * k] + b * r[2 * k + 1] + c;
-        anyIn |= s > eps;
-        anyOut |= s < -eps;
+        const double d = la * rem[2 * k] + lb * rem[2 * k + 1] + lc;
+        dist[k] = d;
+        anyIn |= d > eps;
+        anyOut |= d < -eps;
       }
       if (!anyIn)
       {
-        // This line separates the remainder from the shadow, so the shadow
-        // does not meet the piece at all: keep it whole.
-        untouched = true;
+        untouched = true; // the remainder misses the shadow after all
         break;
       }
       if (!anyOut)
       {
         continue; // the remainder lies on the shadow's side of this line
       }
-      // Split: the outer part is visible, the inner part goes on.
-      const std::size_t outFirst = ws.NextPoints.size();
-      ws.Split.clear();
-      double ps = a * r[2 * (m - 1)] + b * r[2 * (m - 1) + 1] + c;
-      int pc = ps > eps ? 1 : (ps < -eps ? -1 : 0);
-      double px = r[2 * (m - 1)], py = r[2 * (m - 1) + 1];
+      // Split: the outer part is visible, the inner part goes on. Vertices
+      // within eps of the line go to both parts, so no sliver is created.
+      double* o = b.Points.data() + b.Used;
+      int no = 0, ni = 0;
+      double px = rem[2 * (m - 1)], py = rem[2 * (m - 1) + 1];
+      double ps = dist[m - 1];
+      int pc = (ps > eps) - (ps < -eps);
       for (int k = 0; k < m; ++k)
       {
-        const double cx = r[2 * k], cy = r[2 * k + 1];
-        const double cs = a * cx + b * cy + c;
-        const int cc = cs > eps ? 1 : (cs < -eps ? -1 : 0);
-        if (pc * cc < 0)
-        {
-          const double t = ps / (ps - cs);
-          const double ix = px + (cx - px) * t, iy = py + (cy - py) * t;
-          ws.NextPoints.push_back(ix);
-          ws.NextPoints.push_back(iy);
-          ws.Split.push_back(ix);
-          ws.Split.push_back(iy);
-        }
-        if (cc <= 0)
-        {
-          ws.NextPoints.push_back(cx);
-          ws.NextPoints.push_back(cy);
-        }
-        if (cc >= 0)
-        {
-          ws.Split.push_back(cx);
-          ws.Split.push_back(cy);
-        }
+        const double cx = rem[2 * k], cy = rem[2 * k + 1];
+        const double cs = dist[k];
+        const int cc = (cs > eps) - (cs < -eps);
+        // Branch-free: every candidate vertex is written, and kept by
+        // advancing the count or not (the buffers have room for it).
+        const double denom = ps - cs;
+        const double t = denom != 0.0 ? ps / denom : 0.0;
+        const double ix = px + (cx - px) * t, iy = py + (cy - py) * t;
+        const int crossing = pc * cc < 0;
+        o[2 * no] = ix;
+        o[2 * no + 1] = iy;
+        no += crossing;
+        split[2 * ni] = ix;
+        split[2 * ni + 1] = iy;
+        ni += crossing;
+        o[2 * no] = cx;
+        o[2 * no + 1] = cy;
+        no += cc <= 0;
+        split[2 * ni] = cx;
+        split[2 * ni + 1] = cy;
+        ni += cc >= 0;
         px = cx;
         py = cy;
         ps = cs;
         pc = cc;
       }
-      const int outCount = static_cast<int>(ws.NextPoints.size() - outFirst) / 2;
-      if (outCount >= 3 && Area2D(ws.NextPoints.data() + outFirst, outCount) > minArea)
+      double outBox[4];
+      if (no >= 3 && BoundsAndArea(o, no, outBox) > twiceMinArea)
       {
-        ws.NextStarts.push_back(static_cast<int>(outFirst));
+        CommitPiece(b, indexEnd++, no, outBox);
       }
-      else
-      {
-        ws.NextPoints.resize(outFirst);
-      }
-      ws.Remainder.swap(ws.Split);
-      const int inCount = static_cast<int>(ws.Remainder.size()) / 2;
-      if (inCount < 3 || Area2D(ws.Remainder.data(), inCount) <= minArea)
+      std::swap(rem, split);
+      m = ni;
+      if (m < 3)
       {
         untouched = true; // the shadow only grazes the piece
+        break;
       }
     }
-    if (untouched)
+    if (untouched || TwiceArea(rem, m) <= twiceMinArea)
     {
-      ws.NextPoints.resize(markPoints);
-      ws.NextStarts.resize(markStarts);
-      ws.NextStarts.push_back(static_cast<int>(markPoints));
-      ws.NextPoints.insert(ws.NextPoints.end(), pts, pts + 2 * count);
+      // Nothing (or a negligible sliver) is hidden: keep the piece as it was.
+      indexEnd = markEnd;
+      b.Used = markUsed;
+      continue;
     }
-    // Otherwise the remainder is inside the shadow: it vanishes.
+    b.Sizes[piece] = 0; // replaced by its visible parts
+    changed = true;
   }
-  ws.NextStarts.push_back(static_cast<int>(ws.NextPoints.size()));
-  ws.Points.swap(ws.NextPoints);
-  ws.Starts.swap(ws.NextStarts);
-  return static_cast<int>(ws.Starts.size()) - 1;
+  if (changed)
+  {
+    CompactPieces(b, indexEnd);
+  }
+  return b.Count;
+}
+
+// Shadow of one convex occluder piece lying entirely between x's level and
+// the shooter's plane, not too close to x's level: its central projection
+// from x, a convex polygon. Writes the polygon to ws.Shadow and its edge
+// lines (inward unit normals) to ws.Lines, numberOfLines of them. Returns
+// the vertex count, 0 when the projection is degenerate (occluder seen
+// edge-on) or negligible.
+int ProjectedShadow(
+  const Vec3* local, int count, const QueryFrame& q, VisibilityWorkspace& ws, int& numberOfLines)
+{
+  double* shadow = Reserve(ws.Shadow, static_cast<std::size_t>(2 * count));
+  double* lines = Reserve(ws.Lines, static_cast<std::size_t>(3 * count));
+  double twice = 0.0;
+  for (int k = 0; k < count; ++k)
+  {
+    const double t = q.Hx / -local[k].Z;
+    shadow[2 * k] = q.Xu + local[k].X * t;
+    shadow[2 * k + 1] = q.Xv + local[k].Y * t;
+  }
+  double px = shadow[2 * (count - 1)], py = shadow[2 * (count - 1) + 1];
+  for (int k = 0; k < count; ++k)
+  {
+    twice += px * shadow[2 * k + 1] - py * shadow[2 * k];
+    px = shadow[2 * k];
+    py = shadow[2 * k + 1];
+  }
+  if (!(std::abs(twice) > 2.0 * q.MinArea))
+  {
+    return 0;
+  }
+  if (twice < 0.0)
+  {
+    // Seen from the back: make it counter-clockwise.
+    for (int i = 0, j = count - 1; i < j; ++i, --j)
+    {
+      std::swap(shadow[2 * i], shadow[2 * j]);
+      std::swap(shadow[2 * i + 1], shadow[2 * j + 1]);
+    }
+  }
+  numberOfLines = 0;
+  px = shadow[2 * (count - 1)];
+  py = shadow[2 * (count - 1) + 1];
+  for (int k = 0; k < count; ++k)
+  {
+    const double cx = shadow[2 * k], cy = shadow[2 * k + 1];
+    const double nx = py - cy, ny = cx - px;
+    const double len = std::sqrt(nx * nx + ny * ny);
+    if (len > 0.0)
+    {
+      const double inv = 1.0 / len;
+      const double a = nx * inv, b = ny * inv;
+      lines[3 * numberOfLines] = a;
+      lines[3 * numberOfLines + 1] = b;
+      lines[3 * numberOfLines + 2] = -(a * px + b * py);
+      ++numberOfLines;
+    }
+    px = cx;
+    py = cy;
+  }
+  return numberOfLines >= 3 ? count : 0;
+}
+
+// Shadow of one convex occluder piece in general position (straddling the
+// shooter's plane or x's level, or close to x): the half-planes "the ray
+// from x crosses the plane through x and an edge on the inner side" and "y
+// is strictly beyond the occluder's plane", each clipped against the visible
+// hull; lines that cut nothing off the hull are dropped. Writes the clipped
+// shadow to ws.Shadow and the lines to ws.Lines. Returns the shadow's vertex
+// count, or 0 if the shadow misses the hull, or -1 if it covers all of it.
+int GeneralShadow(const Vec3* local, int count, const PreparedPolygon& o, double side,
+  const OccluderSet& set, const QueryFrame& q, VisibilityWorkspace& ws, int& numberOfLines)
+{
+  const PreparedPolygon& s = *q.Shooter;
+  const int hullCount = static_cast<int>(ws.Hull.size()) / 2;
+  double* lines = Reserve(ws.Lines, static_cast<std::size_t>(3 * (count + 1)));
+  std::vector<double>* shadowBuffer = &ws.Shadow;
+  std::vector<double>* swapBuffer = &ws.ShadowSwap;
+  double* shadow = Reserve(*shadowBuffer, static_cast<std::size_t>(2 * hullCount));
+  std::copy(ws.Hull.begin(), ws.Hull.end(), shadow);
+  int shadowCount = hullCount;
+  numberOfLines = 0;
+  bool empty = false;
+  auto addLine = [&](double a, double b, double c) {
+    bool anyIn = false, anyOut = false;
+    for (int k = 0; k < shadowCount; ++k)
+    {
+      const double d = a * shadow[2 * k] + b * shadow[2 * k + 1] + c;
+      anyIn |= d > q.LineEps;
+      anyOut |= d < -q.LineEps;
+    }
+    if (!anyIn)
+    {
+      empty = true;
+      return;
+    }
+    if (!anyOut)
+    {
+      return;
+    }
+    // Clipping output is bounded by twice the input (room for rounding).
+    double* swap = Reserve(*swapBuffer, static_cast<std::size_t>(4 * shadowCount));
+    shadowCount = ClipPolygon2D(shadow, shadowCount, a, b, c, swap);
+    std::swap(shadowBuffer, swapBuffer);
+    shadow = swap;
+    if (shadowCount < 3)
+    {
+      empty = true;
+      return;
+    }
+    lines[3 * numberOfLines] = a;
+    lines[3 * numberOfLines + 1] = b;
+    lines[3 * numberOfLines + 2] = c;
+    ++numberOfLines;
+  };
+
+  // "Strictly beyond the occluder's plane, seen from x", as a half-plane of
+  // the shooter's plane: -side * Dot(nO, y - cO) >= rounding level. (Occluders
+  // coplanar with the shooter were culled with the larger tolerance.)
+  double fa = -side * Dot(o.Normal, s.AxisU);
+  double fb = -side * Dot(o.Normal, s.AxisV);
+  double fc = -side * Dot(o.Normal, s.Centroid - o.Centroid) - set.GetPlaneTolerance();
+  const double flen = std::sqrt(fa * fa + fb * fb);
+  if (flen <= 1e-14)
+  {
+    // Occluder parallel to the shooter: all of it or none of it is beyond.
+    if (fc <= 0.0)
+    {
+      return 0;
+    }
+  }
+  else
+  {
+    addLine(fa / flen, fb / flen, fc / flen);
+  }
+  for (int k = 0; k < count && !empty; ++k)
+  {
+    const Vec3& r0 = local[k];
+    const Vec3& r1 = local[k + 1 == count ? 0 : k + 1];
+    // Inward normal of the cone face through x and this edge.
+    const Vec3 nk = side > 0.0 ? Cross(r1, r0) : Cross(r0, r1);
+    // Restricted to the shooter's plane (local z = -hx relative to x).
+    const double a = nk.X, b = nk.Y;
+    const double c = -(nk.X * q.Xu + nk.Y * q.Xv + nk.Z * q.Hx);
+    const double len = std::sqrt(a * a + b * b);
+    if (!(len > 1e-14 * Length(nk)))
+    {
+      // Face parallel to the shooter's plane: everything or nothing.
+      empty = c < 0.0;
+      continue;
+    }
+    addLine(a / len, b / len, c / len);
+  }
+  if (empty)
+  {
+    return 0;
+  }
+  if (numberOfLines == 0)
+  {
+    return -1;
+  }
+  // Leave the clipped shadow in ws.Shadow.
+  if (shadowBuffer != &ws.Shadow)
+  {
+    std::copy(shadow, shadow + 2 * shadowCount, Reserve(ws.Shadow, static_cast<std::size_t>(2 * shadowCount)));
+  }
+  return shadowCount;
 }
 
 // Subtract the shadows of every convex piece of occluder `id`. Returns the
@@ -155,7 +478,7 @@ int CastShadows(const OccluderSet& set, int id, const QueryFrame& q, VisibilityW
 {
   const PreparedPolygon& o = set.GetPolygon(id);
   const PreparedPolygon& s = *q.Shooter;
-  int left = static_cast<int>(ws.Starts.size()) - 1;
+  int left = ws.Pieces.Count;
   // Signed distance of x from the occluder's plane: which side x sees.
   const double sigma = Dot(o.Normal, q.X - o.Centroid);
   if (std::abs(sigma) <= set.GetPlaneTolerance())
@@ -163,29 +486,10 @@ int CastShadows(const OccluderSet& set, int id, const QueryFrame& q, VisibilityW
     return left; // x lies in the occluder's plane: rays only graze it
   }
   const double side = sigma > 0.0 ? 1.0 : -1.0;
-
-  // "Strictly beyond the occluder's plane, seen from x", as a half-plane of
-  // the shooter's plane: -side * Dot(nO, y - cO) >= tolerance.
-  double fa = -side * Dot(o.Normal, s.AxisU);
-  double fb = -side * Dot(o.Normal, s.AxisV);
-  double fc = -side * Dot(o.Normal, s.Centroid - o.Centroid) - set.GetTolerance();
-  const double flen = std::sqrt(fa * fa + fb * fb);
-  bool farLine = true;
-  if (flen <= 1e-14)
-  {
-    // Occluder parallel to the shooter: all of it or none of it is beyond.
-    if (fc <= 0.0)
-    {
-      return left;
-    }
-    farLine = false;
-  }
-  else
-  {
-    fa /= flen;
-    fb /= flen;
-    fc /= flen;
-  }
+  // Projection is used when every vertex is at least this far below x's
+  // level (towards the shooter): it magnifies by at most 1/ProjectionDepth.
+  constexpr double ProjectionDepth = 0.05;
+  const double minDepth = ProjectionDepth * q.Hx;
 
   const std::vector<ConvexPiece>& pieces = set.GetPieces();
   const Vec3* vertices = set.GetPieceVertices().data();
@@ -214,50 +518,47 @@ int CastShadows(const OccluderSet& set, int id, const QueryFrame& q, VisibilityW
         continue;
       }
     }
-    ws.Local.resize(static_cast<std::size_t>(piece.Count));
+    Vec3* local = Reserve(ws.Local, static_cast<std::size_t>(piece.Count));
+    bool projectable = true;
     for (int k = 0; k < piece.Count; ++k)
     {
       const Vec3 d = v[k] - q.X;
-      ws.Local[k] = Vec3(Dot(d, s.AxisU), Dot(d, s.AxisV), Dot(d, s.Normal));
+      local[k] = Vec3(Dot(d, s.AxisU), Dot(d, s.AxisV), Dot(d, s.Normal));
+      // Between x's level and the shooter's plane: -hx <= z <= -minDepth.
+      projectable &= local[k].Z <= -minDepth && local[k].Z >= -q.Hx;
     }
-    ws.Lines.clear();
-    bool empty = false;
-    for (int k = 0; k < piece.Count && !empty; ++k)
+    int numberOfLines = 0;
+    int shadowCount = 0;
+    if (projectable)
     {
-      const Vec3& r0 = ws.Local[k];
-      const Vec3& r1 = ws.Local[(k + 1) % piece.Count];
-      // Inward normal of the cone face through x and this edge.
-      const Vec3 nk = side > 0.0 ? Cross(r1, r0) : Cross(r0, r1);
-      // Restricted to the shooter's plane (local z = -hx relative to x).
-      double a = nk.X, b = nk.Y;
-      double c = -(nk.X * q.Xu + nk.Y * q.Xv + nk.Z * q.Hx);
-      const double len = std::sqrt(a * a + b * b);
-      if (!(len > 1e-14 * Length(nk)))
-      {
-        // Face parallel to the shooter's plane: everything or nothing.
-        if (c < 0.0)
-        {
-          empty = true;
-        }
-        continue;
-      }
-      ws.Lines.push_back(a / len);
-      ws.Lines.push_back(b / len);
-      ws.Lines.push_back(c / len);
+      shadowCount = ProjectedShadow(local, piece.Count, q, ws, numberOfLines);
     }
-    if (empty)
+    else
+    {
+      shadowCount = GeneralShadow(local, piece.Count, o, side, set, q, ws, numberOfLines);
+      if (shadowCount < 0)
+      {
+        ws.Pieces.Count = 0; // the shadow covers the whole visible hull
+        return 0;
+      }
+    }
+    if (shadowCount < 3)
     {
       continue;
     }
-    if (farLine)
+    double shadowBox[4];
+    BoundsAndArea(ws.Shadow.data(), shadowCount, shadowBox);
+    shadowBox[0] -= q.LineEps;
+    shadowBox[1] += q.LineEps;
+    shadowBox[2] -= q.LineEps;
+    shadowBox[3] += q.LineEps;
+    if (BoxesDisjoint(shadowBox, ws.Pieces.Bounds))
     {
-      ws.Lines.push_back(fa);
-      ws.Lines.push_back(fb);
-      ws.Lines.push_back(fc);
+      continue; // falls where nothing is visible any more
     }
     ++ws.ShadowCount;
-    left = SubtractShadow(ws, ws.Lines.data(), static_cast<int>(ws.Lines.size()) / 3, q.MinArea,
-      q.LineEps);
+    left = SubtractShadow(ws, ws.Lines.data(), numberOfLines, ws.Shadow.data(), shadowCount,
+      shadowBox, q.MinArea, q.LineEps);
   }
   return left;
 }
@@ -297,46 +598,72 @@ double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shoote
 
   // The shooter's convex pieces clipped to x's front half-space.
   const double hc = -(q.Nl.X * q.Xu + q.Nl.Y * q.Xv + q.Nl.Z * q.Hx);
-  ws.Points.clear();
-  ws.Starts.clear();
-  const std::vector<ConvexPiece>& pieces = set.GetPieces();
+  PieceBuffer& pieces = ws.Pieces;
+  pieces.Used = 0;
+  pieces.Count = 0;
+  const std::vector<ConvexPiece>& shooterPieces = set.GetPieces();
   const double* p2 = set.GetPiecePoints2D().data();
   for (int pi = s.FirstPiece; pi < s.FirstPiece + s.NumberOfPieces; ++pi)
   {
-    const ConvexPiece& piece = pieces[pi];
-    const std::size_t first = ws.Points.size();
-    ws.Points.resize(first + 2 * static_cast<std::size_t>(piece.Count + 1));
-    const int m =
-      ClipPolygon2D(p2 + 2 * piece.First, piece.Count, q.Nl.X, q.Nl.Y, hc, ws.Points.data() + first);
-    if (m >= 3 && Area2D(ws.Points.data() + first, m) > q.MinArea)
+    const ConvexPiece& piece = shooterPieces[pi];
+    ReservePieces(pieces, pieces.Count, 1, 4 * piece.Count);
+    double* dst = pieces.Points.data() + pieces.Used;
+    const int m = ClipPolygon2D(p2 + 2 * piece.First, piece.Count, q.Nl.X, q.Nl.Y, hc, dst);
+    const double box[4] = { 0.0, 0.0, 0.0, 0.0 }; // set below if there are occluders
+    if (m >= 3 && TwiceArea(dst, m) > 2.0 * q.MinArea)
     {
-      ws.Points.resize(first + 2 * static_cast<std::size_t>(m));
-      ws.Starts.push_back(static_cast<int>(first));
-    }
-    else
-    {
-      ws.Points.resize(first);
+      CommitPiece(pieces, pieces.Count++, m, box);
     }
   }
-  ws.Starts.push_back(static_cast<int>(ws.Points.size()));
-  int left = static_cast<int>(ws.Starts.size()) - 1;
+  int left = pieces.Count;
 
-  if (left > 0 && (traverse || numberOfCandidates > 0) &&
-    set.BuildFrustum(x, n, shooterId, ws.Frustum))
+  if (left > 0 && (traverse || numberOfCandidates > 0))
   {
-    if (traverse)
+    if (!set.BuildFrustum(x, n, shooterId, ws.Frustum, &ws.Hull))
     {
-      set.VolumeCandidates(ws.Frustum, shooterId, receiverId, ws.Candidates);
+      pieces.Count = 0;
+      left = 0;
     }
     else
     {
-      ws.Candidates.clear();
-      set.FilterCandidates(
-        ws.Frustum, candidates, numberOfCandidates, shooterId, receiverId, ws.Candidates);
-    }
-    for (std::size_t i = 0; i < ws.Candidates.size() && left > 0; ++i)
-    {
-      left = CastShadows(set, ws.Candidates[i], q, ws);
+      for (int k = 0; k < pieces.Count; ++k)
+      {
+        BoundsAndArea(pieces.Points.data() + pieces.Starts[k], pieces.Sizes[k],
+          pieces.Boxes.data() + 4 * k);
+      }
+      CompactPieces(pieces, pieces.Count); // computes the union of the boxes
+      if (traverse)
+      {
+        set.VolumeCandidates(ws.Frustum, shooterId, receiverId, ws.Candidates);
+      }
+      else
+      {
+        ws.Candidates.clear();
+        set.FilterCandidates(
+          ws.Frustum, candidates, numberOfCandidates, shooterId, receiverId, ws.Candidates);
+      }
+      // Largest solid angle first (area / distance^2): big shadows shrink
+      // the visible region early, so later shadows meet fewer pieces.
+      const std::size_t numberOfOccluders = ws.Candidates.size();
+      if (numberOfOccluders > 1)
+      {
+        Reserve(ws.Order, numberOfOccluders);
+        for (std::size_t i = 0; i < numberOfOccluders; ++i)
+        {
+          const PreparedPolygon& o = set.GetPolygon(ws.Candidates[i]);
+          const Vec3 d = o.Centroid - x;
+          ws.Order[i] = { -o.Area / Dot(d, d), ws.Candidates[i] };
+        }
+        std::sort(ws.Order.begin(), ws.Order.begin() + static_cast<std::ptrdiff_t>(numberOfOccluders));
+        for (std::size_t i = 0; i < numberOfOccluders; ++i)
+        {
+          ws.Candidates[i] = ws.Order[i].second;
+        }
+      }
+      for (std::size_t i = 0; i < numberOfOccluders && left > 0; ++i)
+      {
+        left = CastShadows(set, ws.Candidates[i], q, ws);
+      }
     }
   }
 
@@ -344,8 +671,8 @@ double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shoote
   double sum = 0.0;
   for (int piece = 0; piece < left; ++piece)
   {
-    const double* pts = ws.Points.data() + ws.Starts[piece];
-    const int m = (ws.Starts[piece + 1] - ws.Starts[piece]) / 2;
+    const double* pts = pieces.Points.data() + pieces.Starts[piece];
+    const int m = pieces.Sizes[piece];
     Vec3 r0(pts[2 * (m - 1)] - q.Xu, pts[2 * (m - 1) + 1] - q.Xv, -q.Hx);
     for (int k = 0; k < m; ++k)
     {
@@ -363,9 +690,10 @@ double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shoote
     for (int piece = 0; piece < left; ++piece)
     {
       region->Offsets.push_back(static_cast<int>(region->Points.size()));
-      for (int k = ws.Starts[piece]; k < ws.Starts[piece + 1]; k += 2)
+      const double* pts = pieces.Points.data() + pieces.Starts[piece];
+      for (int k = 0; k < pieces.Sizes[piece]; ++k)
       {
-        region->Points.push_back(s.Centroid + s.AxisU * ws.Points[k] + s.AxisV * ws.Points[k + 1]);
+        region->Points.push_back(s.Centroid + s.AxisU * pts[2 * k] + s.AxisV * pts[2 * k + 1]);
       }
     }
     if (left > 0)

@@ -14,17 +14,20 @@
  *   { y on the shooter : the ray from x to y crosses O's plane inside O,
  *                        strictly before y },
  *
- * which is an intersection of half-planes of the shooter's plane: one per
- * edge of O (the plane through x and the edge) and one for "y strictly beyond
- * O's plane as seen from x". Computed this way the shadow needs no clipping
- * of O to the slab or to the pyramid and no central projection, so occluders
- * that straddle the shooter's plane or x's tangent plane, touch the shooter
- * or the receiver, or are seen almost edge-on are handled without division
- * by small numbers. Shadows are subtracted one at a time from the convex
- * visible pieces: a piece is split by the shadow's lines, the parts outside
- * a line are kept, the part inside all lines vanishes; a piece that the
- * shadow does not touch is kept whole. Pieces smaller than 1e-14 of the
- * shooter's area are dropped. The form factor is the sum of Lambert's
+ * a convex region. When O lies between the shooter's plane and x's level and
+ * no closer than 5% of the way to x's level, the shadow is O's central
+ * projection from x (magnified at most 20 times). Otherwise it is written
+ * as an intersection of half-planes of the shooter's plane: one per edge of O
+ * (the plane through x and the edge) and one for "y strictly beyond O's plane
+ * as seen from x". That form needs no clipping of O to the slab or to the
+ * pyramid and no division by small numbers, so occluders that straddle the
+ * shooter's plane or x's tangent plane, touch the shooter or the receiver,
+ * or are seen almost edge-on are handled exactly. Shadows are subtracted one
+ * at a time (largest solid angle first) from the convex visible pieces: a piece
+ * the shadow meets (bounding boxes, then separating axes) is split by the
+ * shadow's lines, the parts outside a line are kept and the part inside all
+ * lines vanishes; other pieces are kept whole. Pieces smaller than 1e-14 of
+ * the shooter's area are dropped. The form factor is the sum of Lambert's
  * formula over the visible pieces.
  *
  * Conventions: an occluder casts no shadow from a point within
@@ -42,6 +45,7 @@
 #include "penumbraScene.h"
 #include "penumbraVector.h"
 
+#include <utility>
 #include <vector>
 
 namespace penumbra
@@ -54,17 +58,34 @@ namespace penumbra
  */
 struct VisibilityWorkspace
 {
-  std::vector<double> Points;       ///< current visible pieces, (u, v) pairs
-  std::vector<int> Starts;          ///< piece k is [Starts[k], Starts[k+1]) in points
-  std::vector<double> NextPoints;   ///< pieces after the current shadow
-  std::vector<int> NextStarts;      ///< starts of NextPoints
-  std::vector<double> Remainder;    ///< the part of a piece still inside the shadow
-  std::vector<double> Split;        ///< scratch for one split
-  std::vector<double> Lines;        ///< shadow half-planes (a, b, c) triples
-  std::vector<Vec3> Local;          ///< occluder piece vertices relative to x
-  std::vector<int> Candidates;      ///< pyramid candidates
-  CullingVolume Frustum;            ///< pyramid of the current query
-  long long ShadowCount = 0;        ///< statistics: shadows subtracted so far
+  /**
+   * The visible pieces (internal): convex 2D polygons in the shooter's frame.
+   * Points only grows during a query (pieces that are split leave their old
+   * points behind); the alive pieces are [0, Count) of the index arrays.
+   */
+  struct PieceBuffer
+  {
+    std::vector<double> Points; ///< (u, v) pairs; the first Used doubles are in use
+    int Used = 0;
+    std::vector<int> Starts;    ///< first double of each piece in Points
+    std::vector<int> Sizes;     ///< vertex count of each piece (0 = removed)
+    std::vector<double> Boxes;  ///< umin, umax, vmin, vmax of each piece
+    int Count = 0;              ///< number of pieces
+    double Bounds[4] = { 0, 0, 0, 0 }; ///< union of the boxes
+  };
+  PieceBuffer Pieces;              ///< the visible region
+  std::vector<double> Remainder;   ///< the part of a piece still inside the shadow
+  std::vector<double> Split;       ///< scratch for one split
+  std::vector<double> Distances;   ///< signed distances of the remainder to a line
+  std::vector<double> Lines;       ///< shadow half-planes, (a, b, c) triples
+  std::vector<double> Shadow;      ///< the current shadow polygon
+  std::vector<double> ShadowSwap;  ///< scratch for clipping it
+  std::vector<double> Hull;        ///< the shooter's hull clipped to x's front
+  std::vector<Vec3> Local;         ///< occluder piece vertices relative to x
+  std::vector<int> Candidates;     ///< pyramid candidates
+  std::vector<std::pair<double, int>> Order; ///< candidates sorted by solid angle
+  CullingVolume Frustum;           ///< pyramid of the current query
+  long long ShadowCount = 0;       ///< statistics: shadows subtracted so far
 };
 
 /**
@@ -94,6 +115,12 @@ struct VisibleRegion
  * pyramid from x). `receiverId` (or -1) and the shooter are skipped. When
  * `region` is given it receives the visible pieces. Returns a finite value
  * in [0, 1]; 0 when x is not in front of the shooter.
+ *
+ * Pure visibility queries (e.g. "does this occluder vertex see the source")
+ * pass n = (0, 0, 0): nothing is clipped by a tangent plane, the return
+ * value is 0 and `region` holds the part of the shooter's front visible from
+ * x. A point lying on occluders (an occluder vertex or edge) is not hidden
+ * by them: a polygon whose plane contains x casts no shadow.
  */
 PENUMBRACORE_EXPORT double VisibleFormFactor(const OccluderSet& occluders, const Vec3& x,
   const Vec3& n, int shooterId, int receiverId, const int* candidates, int numberOfCandidates,

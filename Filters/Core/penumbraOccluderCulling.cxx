@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <unordered_map>
 
 namespace penumbra
 {
@@ -175,50 +177,90 @@ void EarClip(const std::vector<Point2>& p, std::vector<std::vector<int>>& triang
 }
 
 // Hertel-Mehlhorn style greedy merge: join two pieces across a shared
-// diagonal whenever the union stays convex. At most 4x the optimal count.
+// diagonal whenever the union stays convex (at most 4x the optimal count).
+// An edge -> piece map finds the neighbour across a diagonal in O(1).
 void MergeConvex(const std::vector<Point2>& p, std::vector<std::vector<int>>& pieces, double eps)
 {
+  auto key = [](int a, int b) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+      static_cast<std::uint32_t>(b);
+  };
+  std::unordered_map<std::uint64_t, int> owner;
+  for (std::size_t i = 0; i < pieces.size(); ++i)
+  {
+    const std::vector<int>& c = pieces[i];
+    for (std::size_t k = 0; k < c.size(); ++k)
+    {
+      owner[key(c[k], c[(k + 1) % c.size()])] = static_cast<int>(i);
+    }
+  }
+  std::vector<bool> alive(pieces.size(), true);
   bool merged = true;
   while (merged)
   {
     merged = false;
-    for (std::size_t i = 0; i < pieces.size() && !merged; ++i)
+    for (std::size_t i = 0; i < pieces.size(); ++i)
     {
-      for (std::size_t j = i + 1; j < pieces.size() && !merged; ++j)
+      if (!alive[i])
+      {
+        continue;
+      }
+      for (std::size_t ka = 0; ka < pieces[i].size(); ++ka)
       {
         const std::vector<int>& A = pieces[i];
-        const std::vector<int>& B = pieces[j];
-        for (std::size_t ka = 0; ka < A.size() && !merged; ++ka)
+        const int a = A[ka], b = A[(ka + 1) % A.size()];
+        const auto it = owner.find(key(b, a));
+        if (it == owner.end() || it->second == static_cast<int>(i) || !alive[it->second])
         {
-          const int a = A[ka], b = A[(ka + 1) % A.size()];
-          for (std::size_t kb = 0; kb < B.size(); ++kb)
-          {
-            if (B[kb] != b || B[(kb + 1) % B.size()] != a)
-            {
-              continue;
-            }
-            // A walked from b round to a, then B's vertices strictly between a and b.
-            std::vector<int> cycle;
-            for (std::size_t t = 0; t < A.size(); ++t)
-            {
-              cycle.push_back(A[(ka + 1 + t) % A.size()]);
-            }
-            for (std::size_t t = 2; t < B.size(); ++t)
-            {
-              cycle.push_back(B[(kb + t) % B.size()]);
-            }
-            if (IsConvex(p, cycle, eps))
-            {
-              pieces[i] = cycle;
-              pieces.erase(pieces.begin() + static_cast<std::ptrdiff_t>(j));
-              merged = true;
-            }
-            break;
-          }
+          continue;
         }
+        const int j = it->second;
+        const std::vector<int>& B = pieces[j];
+        std::size_t kb = 0;
+        while (kb < B.size() && !(B[kb] == b && B[(kb + 1) % B.size()] == a))
+        {
+          ++kb;
+        }
+        if (kb == B.size())
+        {
+          continue;
+        }
+        // A walked from b round to a, then B's vertices strictly between a and b.
+        std::vector<int> cycle;
+        for (std::size_t t = 0; t < A.size(); ++t)
+        {
+          cycle.push_back(A[(ka + 1 + t) % A.size()]);
+        }
+        for (std::size_t t = 2; t < B.size(); ++t)
+        {
+          cycle.push_back(B[(kb + t) % B.size()]);
+        }
+        if (!IsConvex(p, cycle, eps))
+        {
+          continue;
+        }
+        owner.erase(key(a, b));
+        owner.erase(key(b, a));
+        pieces[i] = cycle;
+        alive[j] = false;
+        for (std::size_t k = 0; k < cycle.size(); ++k)
+        {
+          owner[key(cycle[k], cycle[(k + 1) % cycle.size()])] = static_cast<int>(i);
+        }
+        merged = true;
+        ka = static_cast<std::size_t>(-1); // rescan the grown piece
       }
     }
   }
+  std::vector<std::vector<int>> kept;
+  for (std::size_t i = 0; i < pieces.size(); ++i)
+  {
+    if (alive[i])
+    {
+      kept.push_back(std::move(pieces[i]));
+    }
+  }
+  pieces.swap(kept);
 }
 
 // Andrew's monotone chain; counter-clockwise, no collinear points.
@@ -306,17 +348,26 @@ void OccluderSet::Build(const Scene& scene)
   this->Nodes.clear();
   this->Items.clear();
 
+  // Scale of the scene, over finite vertices only (a polygon with a
+  // non-finite vertex is invalid and ignored below).
   double maxAbs = 0.0;
+  Vec3 lo = EmptyLo, hi = EmptyHi;
   for (const Surface& s : scene.Surfaces)
   {
     for (const Vec3& v : s.Vertices)
     {
-      maxAbs = std::max({ maxAbs, std::abs(v.X), std::abs(v.Y), std::abs(v.Z) });
+      if (IsFinite(v))
+      {
+        maxAbs = std::max({ maxAbs, std::abs(v.X), std::abs(v.Y), std::abs(v.Z) });
+        ExpandBox(lo, hi, v);
+      }
     }
   }
-  this->Extent = scene.Size();
+  this->Extent = maxAbs > 0.0 ? std::max({ hi.X - lo.X, hi.Y - lo.Y, hi.Z - lo.Z }) : 0.0;
   this->Tolerance = 1e-12 * this->Extent + 64.0 * DBL_EPSILON * maxAbs;
-  this->PlaneTolerance = 1e-14 * this->Extent + 16.0 * DBL_EPSILON * maxAbs;
+  // Rounding level: the side of an occluder's plane a point is on only
+  // matters when it is farther than this (closer, either side is a valid limit).
+  this->PlaneTolerance = 1e-15 * this->Extent + 8.0 * DBL_EPSILON * maxAbs;
 
   std::vector<Point2> p2;
   std::vector<std::vector<int>> pieces;
@@ -338,7 +389,12 @@ void OccluderSet::Build(const Scene& scene)
     poly.FirstPiece = static_cast<int>(this->Pieces.size());
     poly.FirstHullPoint = static_cast<int>(this->HullVertices.size());
     const std::size_t n = s.Vertices.size();
-    poly.Valid = n >= 3 && g.Area > 0.0 && std::isfinite(g.Area) &&
+    bool finite = true;
+    for (const Vec3& v : s.Vertices)
+    {
+      finite &= IsFinite(v);
+    }
+    poly.Valid = finite && n >= 3 && g.Area > 0.0 && std::isfinite(g.Area) &&
       g.Area > 1e-14 * g.Diameter * g.Diameter;
     if (!poly.Valid)
     {
@@ -664,8 +720,8 @@ bool OccluderSet::ShaftCandidates(int shooterId, int receiverId, std::vector<int
   return true;
 }
 
-bool OccluderSet::BuildFrustum(
-  const Vec3& x, const Vec3& n, int shooterId, CullingVolume& frustum) const
+bool OccluderSet::BuildFrustum(const Vec3& x, const Vec3& n, int shooterId,
+  CullingVolume& frustum, std::vector<double>* clippedHull) const
 {
   const PreparedPolygon& s = this->Polygons[shooterId];
   if (!s.Valid)
@@ -684,17 +740,31 @@ bool OccluderSet::BuildFrustum(
   const double c = -(nu * xu + nv * xv + nw * hx);
 
   constexpr int StackPoints = 64;
-  double stackBuffer[4 * StackPoints];
+  double stackBuffer[2 * StackPoints];
   std::vector<double> heapBuffer;
   double* clipped = stackBuffer;
   const int nh = s.NumberOfHullPoints;
-  if (nh + 1 > 2 * StackPoints)
+  if (clippedHull)
   {
-    heapBuffer.resize(static_cast<std::size_t>(4 * nh + 4));
+    if (clippedHull->size() < static_cast<std::size_t>(4 * nh))
+    {
+      clippedHull->resize(static_cast<std::size_t>(4 * nh));
+    }
+    clipped = clippedHull->data();
+  }
+  else if (2 * nh > StackPoints)
+  {
+    heapBuffer.resize(static_cast<std::size_t>(4 * nh));
     clipped = heapBuffer.data();
   }
+  // A convex polygon clipped by one half-plane has at most one more vertex
+  // (the buffers allow twice as many, in case rounding bends the hull).
   const int m = ClipPolygon2D(
     this->HullPoints2D.data() + 2 * s.FirstHullPoint, nh, nu, nv, c, clipped);
+  if (clippedHull)
+  {
+    clippedHull->resize(static_cast<std::size_t>(2 * m));
+  }
   if (m < 3)
   {
     return false;
@@ -721,7 +791,10 @@ bool OccluderSet::BuildFrustum(
   // The slab strictly between the shooter's plane and x, and x's front.
   frustum.Planes.push_back({ s.Normal, s.Offset + tol });
   frustum.Planes.push_back({ -s.Normal, -Dot(s.Normal, x) - tol });
-  frustum.Planes.push_back({ n, Dot(n, x) + tol });
+  if (SquaredLength(n) > 0.0) // n = 0: a pure visibility query, no tangent plane
+  {
+    frustum.Planes.push_back({ n, Dot(n, x) + tol });
+  }
   frustum.BoxMin -= Vec3(tol, tol, tol);
   frustum.BoxMax += Vec3(tol, tol, tol);
   return true;

@@ -31,8 +31,8 @@ namespace penumbra
 /// A closed half-space Dot(Normal, p) >= Offset (Normal is a unit vector).
 struct Plane
 {
-  Vec3 Normal;
-  double Offset = 0.0;
+  Vec3 Normal;         ///< unit normal, pointing inside
+  double Offset = 0.0; ///< Dot(Normal, p) on the plane
 };
 
 /**
@@ -42,9 +42,9 @@ struct Plane
  */
 struct CullingVolume
 {
-  Vec3 BoxMin;
-  Vec3 BoxMax;
-  std::vector<Plane> Planes;
+  Vec3 BoxMin;               ///< lower corner of the box
+  Vec3 BoxMax;               ///< upper corner of the box
+  std::vector<Plane> Planes; ///< inner sides Dot(Normal, p) >= Offset
 };
 
 /**
@@ -127,8 +127,8 @@ public:
   double GetTolerance() const { return this->Tolerance; }
   /**
    * Distance below which a point is considered to lie in an occluder's plane
-   * (the occluder then casts no shadow from it): 1e-14 of the extent plus a
-   * few ulps of the largest coordinate.
+   * (the occluder then casts no shadow from it): 1e-15 of the extent plus a
+   * few ulps of the largest coordinate, i.e. rounding level.
    */
   double GetPlaneTolerance() const { return this->PlaneTolerance; }
 
@@ -150,12 +150,15 @@ public:
 
   /**
    * Query B, first step. Build the pyramid from x to the part of the shooter
-   * in front of x's tangent plane (unit normal n), cut by the slab between x
-   * and the shooter's plane. Returns false when nothing of the shooter's front
+   * in front of x's tangent plane (unit normal n, or the zero vector for no
+   * tangent plane), cut by the slab between x and the shooter's plane. Returns false when nothing of the shooter's front
    * is visible from x's front half-space (the form factor is then 0).
-   * `frustum` is reused: its vectors keep their capacity.
+   * `frustum` is reused: its vectors keep their capacity. When
+   * `clippedHull` is given it receives the clipped convex hull of the shooter,
+   * counter-clockwise (u, v) pairs in the shooter's frame.
    */
-  bool BuildFrustum(const Vec3& x, const Vec3& n, int shooterId, CullingVolume& frustum) const;
+  bool BuildFrustum(const Vec3& x, const Vec3& n, int shooterId, CullingVolume& frustum,
+    std::vector<double>* clippedHull = nullptr) const;
 
   /// Query B by BVH traversal: every polygon except `excludeA`/`excludeB` that may meet `volume`.
   void VolumeCandidates(

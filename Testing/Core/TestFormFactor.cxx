@@ -341,6 +341,23 @@ void TestOrientation()
   PENUMBRA_EXPECT_NEAR(penumbra::PointPolygonFormFactor(x, n, sky, 4), 1.0, 1e-7);
 }
 
+void TestEdgeAngle()
+{
+  // The edge angle equals atan2(s, c) to an ulp or two, at every angle.
+  double worst = 0.0;
+  const double cs[] = { 1.0, 0.5, 1e-3, 1e-12, 0.0, -0.0, -1e-12, -1e-3, -0.5, -1.0, -1e12 };
+  const double ss[] = { 1e-300, 1e-12, 1e-3, 0.5, 1.0, 7.0, 1e12 };
+  for (double c : cs)
+  {
+    for (double s : ss)
+    {
+      const double ref = std::atan2(s, c);
+      worst = std::max(worst, std::abs(penumbra::LambertEdgeAngle(s, c) - ref) / ref);
+    }
+  }
+  PENUMBRA_EXPECT(worst <= 4.5e-16);
+}
+
 void TestAreaToArea()
 {
   // Parallel directly opposed squares/rectangles: design.md's values, the
@@ -390,6 +407,7 @@ int main()
   TestPerpendicular();
   TestClipping();
   TestOrientation();
+  TestEdgeAngle();
   TestAreaToArea();
   return penumbra::testing::Result();
 }

@@ -17,10 +17,12 @@ import vtkmodules.vtkCommonDataModel  # noqa: F401
 import vtkmodules.vtkCommonExecutionModel  # noqa: F401
 
 from .vtkPenumbraFilters import (  # noqa: F401
+    vtkDiscontinuityMesher,
     vtkPenumbraOBJReader,
     vtkPenumbraSceneSource,
     vtkPenumbraSceneValidator,
     vtkRadianceEvaluator,
+    vtkRadianceReconstructor,
 )
 
 import os

@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkDiscontinuityMesher.h"
+
+#include "vtkPenumbraSceneConversion.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
+
+#include "penumbraDiscontinuityMesher.h"
+
+#include <algorithm>
+#include <exception>
+#include <memory>
+#include <mutex>
+
+vtkStandardNewMacro(vtkDiscontinuityMesher);
+
+void vtkDiscontinuityMesher::AddShooterId(vtkIdType id)
+{
+  this->ShooterIds.push_back(id);
+  this->Modified();
+}
+
+void vtkDiscontinuityMesher::RemoveAllShooterIds()
+{
+  if (!this->ShooterIds.empty())
+  {
+    this->ShooterIds.clear();
+    this->Modified();
+  }
+}
+
+vtkIdType vtkDiscontinuityMesher::GetNumberOfShooterIds() const
+{
+  return static_cast<vtkIdType>(this->ShooterIds.size());
+}
+
+vtkIdType vtkDiscontinuityMesher::GetShooterId(vtkIdType index) const
+{
+  return index >= 0 && index < this->GetNumberOfShooterIds() ? this->ShooterIds[index] : -1;
+}
+
+namespace
+{
+void AddCount(vtkFieldData* fieldData, const char* name, double value)
+{
+  vtkNew<vtkIdTypeArray> array;
+  array->SetName(name);
+  array->InsertNextValue(static_cast<vtkIdType>(value));
+  fieldData->AddArray(array);
+}
+}
+
+int vtkDiscontinuityMesher::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->Initialize();
+  if (!input || input->GetNumberOfCells() == 0)
+  {
+    return 1;
+  }
+
+  penumbra::DiscontinuityMeshSettings settings;
+  for (vtkIdType id : this->ShooterIds)
+  {
+    settings.Shooters.push_back(static_cast<int>(id));
+  }
+  settings.ShooterPowerFraction = this->ShooterPowerFraction;
+  settings.MinimumAngle = this->MinimumAngle;
+  settings.OccluderOccluderEvents = this->OccluderOccluderEvents;
+  settings.InteriorEvents = this->InteriorEvents;
+  settings.PlaneEvents = this->PlaneEvents;
+  settings.Contacts = this->Contacts;
+  settings.JumpThreshold = this->JumpThreshold;
+  settings.ContactTolerance = this->ContactTolerance;
+
+  std::unique_ptr<penumbra::DiscontinuityMesher> mesher;
+  int numberOfSurfaces = 0;
+  try
+  {
+    const penumbra::Scene scene = penumbra::SceneFromPolyData(input);
+    mesher.reset(new penumbra::DiscontinuityMesher(scene)); // validates the scene
+    numberOfSurfaces = mesher->GetNumberOfSurfaces();
+    for (vtkIdType id : this->ShooterIds)
+    {
+      if (id < 0 || id >= numberOfSurfaces)
+      {
+        throw penumbra::InputError("ShooterIds: " + std::to_string(id) +
+          " is not a scene cell (0 to " + std::to_string(numberOfSurfaces - 1) + ")");
+      }
+    }
+    mesher->SelectShooters(settings);
+  }
+  catch (const penumbra::InputError& e)
+  {
+    vtkErrorMacro(<< e.what());
+    return 0;
+  }
+
+  // Mesh receivers in parallel, in batches between which progress is
+  // reported and abort honoured; the results are joined in receiver order.
+  std::vector<penumbra::ReceiverMesh> meshes(static_cast<std::size_t>(numberOfSurfaces));
+  vtkSMPThreadLocal<penumbra::DiscontinuityMeshStatistics> statistics;
+  std::mutex errorMutex;
+  std::string error;
+  const int batches = std::min(numberOfSurfaces, 50);
+  this->UpdateProgress(0.0);
+  for (int batch = 0; batch < batches && !this->GetAbortExecute() && error.empty(); ++batch)
+  {
+    const vtkIdType begin = static_cast<vtkIdType>(numberOfSurfaces) * batch / batches;
+    const vtkIdType end = static_cast<vtkIdType>(numberOfSurfaces) * (batch + 1) / batches;
+    vtkSMPTools::For(begin, end, [&](vtkIdType first, vtkIdType last) {
+      for (vtkIdType i = first; i < last; ++i)
+      {
+        try
+        {
+          meshes[i] = mesher->MeshReceiver(static_cast<int>(i), settings, &statistics.Local());
+        }
+        catch (const std::exception& e)
+        {
+          std::lock_guard<std::mutex> lock(errorMutex);
+          if (error.empty())
+          {
+            error = "surface " + std::to_string(i) + ": " + e.what();
+          }
+        }
+      }
+    });
+    this->UpdateProgress(static_cast<double>(batch + 1) / batches);
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+  if (this->GetAbortExecute())
+  {
+    return 1;
+  }
+  penumbra::DiscontinuityMeshStatistics total;
+  for (const auto& local : statistics)
+  {
+    total += local;
+  }
+
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkIntArray> pointSurface;
+  pointSurface->SetName("SurfaceId");
+  std::vector<int> lineOrder, lineSource, lineSurface, polySurface;
+  for (const penumbra::ReceiverMesh& mesh : meshes)
+  {
+    const vtkIdType offset = points->GetNumberOfPoints();
+    for (const penumbra::Vec3& p : mesh.Points)
+    {
+      points->InsertNextPoint(p.X, p.Y, p.Z);
+      pointSurface->InsertNextValue(mesh.ReceiverId);
+    }
+    for (const auto& t : mesh.Triangles)
+    {
+      const vtkIdType ids[3] = { offset + t[0], offset + t[1], offset + t[2] };
+      polys->InsertNextCell(3, ids);
+      polySurface.push_back(mesh.ReceiverId);
+    }
+    for (const penumbra::DiscontinuitySegment& s : mesh.Segments)
+    {
+      const vtkIdType ids[2] = { offset + s.PointA, offset + s.PointB };
+      lines->InsertNextCell(2, ids);
+      lineOrder.push_back(s.Order);
+      lineSource.push_back(s.SourceId);
+      lineSurface.push_back(s.ReceiverId);
+    }
+  }
+  output->SetPoints(points);
+  output->SetLines(lines);
+  output->SetPolys(polys);
+
+  // Cell data runs over the lines first, then the polygons.
+  const std::size_t numberOfLines = lineOrder.size();
+  const std::size_t numberOfPolys = polySurface.size();
+  auto makeArray = [&](const char* name, const std::vector<int>& lineValues,
+                     const std::vector<int>* polyValues, int polyDefault) {
+    vtkNew<vtkIntArray> array;
+    array->SetName(name);
+    array->SetNumberOfTuples(static_cast<vtkIdType>(numberOfLines + numberOfPolys));
+    for (std::size_t k = 0; k < numberOfLines; ++k)
+    {
+      array->SetValue(static_cast<vtkIdType>(k), lineValues[k]);
+    }
+    for (std::size_t k = 0; k < numberOfPolys; ++k)
+    {
+      array->SetValue(static_cast<vtkIdType>(numberOfLines + k),
+        polyValues ? (*polyValues)[k] : polyDefault);
+    }
+    output->GetCellData()->AddArray(array);
+  };
+  makeArray("SurfaceId", lineSurface, &polySurface, 0);
+  makeArray("DiscontinuityOrder", lineOrder, nullptr, -2);
+  makeArray("SourceId", lineSource, nullptr, -1);
+  output->GetPointData()->AddArray(pointSurface);
+
+  vtkFieldData* fieldData = output->GetFieldData();
+  AddCount(fieldData, "SegmentsGenerated", static_cast<double>(total.SegmentsGenerated));
+  AddCount(fieldData, "SegmentsKept", static_cast<double>(total.SegmentsKept));
+  AddCount(fieldData, "ContactSegments", static_cast<double>(total.ContactSegments));
+  AddCount(fieldData, "Constraints", static_cast<double>(total.Constraints));
+  AddCount(fieldData, "ConstraintFailures", static_cast<double>(total.ConstraintFailures));
+  AddCount(fieldData, "Triangles", static_cast<double>(total.Triangles));
+  AddCount(fieldData, "Wedges", static_cast<double>(total.Wedges));
+  if (total.ConstraintFailures > 0)
+  {
+    vtkWarningMacro(<< total.ConstraintFailures << " constraint insertions failed");
+  }
+  return 1;
+}
+
+void vtkDiscontinuityMesher::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ShooterIds:";
+  if (this->ShooterIds.empty())
+  {
+    os << " (every emitter above ShooterPowerFraction)";
+  }
+  for (vtkIdType id : this->ShooterIds)
+  {
+    os << " " << id;
+  }
+  os << "\n";
+  os << indent << "ShooterPowerFraction: " << this->ShooterPowerFraction << "\n";
+  os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
+  os << indent << "OccluderOccluderEvents: " << (this->OccluderOccluderEvents ? "On" : "Off")
+     << "\n";
+  os << indent << "InteriorEvents: " << (this->InteriorEvents ? "On" : "Off") << "\n";
+  os << indent << "PlaneEvents: " << (this->PlaneEvents ? "On" : "Off") << "\n";
+  os << indent << "Contacts: " << (this->Contacts ? "On" : "Off") << "\n";
+  os << indent << "JumpThreshold: " << this->JumpThreshold << "\n";
+  os << indent << "ContactTolerance: " << this->ContactTolerance << "\n";
+}

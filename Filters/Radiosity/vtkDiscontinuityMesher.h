@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkDiscontinuityMesher
+ * @brief   Discontinuity meshing of every receiving surface (paper §4).
+ *
+ * Input: a scene (see vtkPenumbraSceneValidator for its contract). For every
+ * surface (receiver) and every selected shooter, the shadow boundaries that
+ * the occluders cast (EV and VE wedges, optionally occluder-occluder EV
+ * wedges, each clipped to where it really is a boundary) and the contact
+ * lines of occluders touching the receiver become constraints of a
+ * constrained Delaunay triangulation of the receiver (CGAL, exact
+ * predicates and constructions). The receiver area under a solid standing on
+ * it is not meshed. EEE events (curved boundaries of three generic edges)
+ * are not generated.
+ *
+ * Output vtkPolyData:
+ * - polys: triangles covering every receiver, cell data `SurfaceId` (the
+ *   scene cell), `DiscontinuityOrder` = -2 and `SourceId` = -1 (not edges);
+ * - lines: every constrained edge, cell data `DiscontinuityOrder` (0 contact
+ *   = value discontinuity, 1 slope discontinuity, 2 second-derivative
+ *   discontinuity, -1 surface boundary), `SourceId` (the shooter that casts
+ *   it, -1 for boundaries and contacts) and `SurfaceId`;
+ * - point data `SurfaceId`. Points along order-0 lines are duplicated, one
+ *   copy per side, so that values may jump there;
+ * - field data with the counts of the run: `SegmentsGenerated`,
+ *   `SegmentsKept`, `ContactSegments`, `Constraints`, `ConstraintFailures`,
+ *   `Triangles`, `Wedges`.
+ *
+ * Receivers are meshed in parallel with vtkSMPTools; the output does not
+ * depend on the number of threads.
+ *
+ * @sa vtkRadianceEvaluator vtkPenumbraSceneValidator
+ */
+#ifndef vtkDiscontinuityMesher_h
+#define vtkDiscontinuityMesher_h
+
+#include "vtkPenumbraFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <vector> // for std::vector
+
+class VTKPENUMBRAFILTERS_EXPORT vtkDiscontinuityMesher : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkDiscontinuityMesher* New();
+  vtkTypeMacro(vtkDiscontinuityMesher, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The shooters: scene cell ids. Empty (the default) selects every emitter
+   * whose power is at least ShooterPowerFraction of the total emitted power.
+   * An id that is not a scene cell is an error.
+   */
+  void AddShooterId(vtkIdType id);
+  void RemoveAllShooterIds();
+  vtkIdType GetNumberOfShooterIds() const;
+  vtkIdType GetShooterId(vtkIdType index) const;
+  ///@}
+
+  ///@{
+  /**
+   * With no ShooterIds, skip emitters whose power (mean of the RGB channels)
+   * is below this fraction of the total. Default 0, range [0, 1].
+   */
+  vtkSetClampMacro(ShooterPowerFraction, double, 0.0, 1.0);
+  vtkGetMacro(ShooterPowerFraction, double);
+  ///@}
+
+  ///@{
+  /**
+   * Quality refinement: the smallest triangle angle in degrees, keeping every
+   * constraint. Default 0 (no refinement), range [0, 20.6] (the largest bound
+   * for which refinement is guaranteed to terminate).
+   */
+  vtkSetClampMacro(MinimumAngle, double, 0.0, 20.6);
+  vtkGetMacro(MinimumAngle, double);
+  ///@}
+
+  ///@{
+  /**
+   * Also trace EV events between a vertex of one occluder and an edge of
+   * another whose wedge cuts the shooter. Default on.
+   */
+  vtkSetMacro(OccluderOccluderEvents, bool);
+  vtkGetMacro(OccluderOccluderEvents, bool);
+  vtkBooleanMacro(OccluderOccluderEvents, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Also trace the EV/VE wedges that do not bound umbra or penumbra (D2
+   * boundaries inside a penumbra). Default off.
+   */
+  vtkSetMacro(InteriorEvents, bool);
+  vtkGetMacro(InteriorEvents, bool);
+  vtkBooleanMacro(InteriorEvents, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Also trace the lines where the plane of an occluder face cuts the
+   * shooter (points in that plane see the face edge-on: a D1 line missed by
+   * the EV/VE list) and where the shooter's own plane crosses a receiver.
+   * Default on.
+   */
+  vtkSetMacro(PlaneEvents, bool);
+  vtkGetMacro(PlaneEvents, bool);
+  vtkBooleanMacro(PlaneEvents, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Contact lines where an occluder touches a receiver (order 0), and no mesh
+   * under solids standing on a receiver. Default on.
+   */
+  vtkSetMacro(Contacts, bool);
+  vtkGetMacro(Contacts, bool);
+  vtkBooleanMacro(Contacts, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Drop shadow boundaries whose estimated radiance jump, relative to the
+   * receiver's largest unoccluded direct radiance, is below this. Default 0
+   * (keep all), range [0, 1]. Contact lines are always kept.
+   */
+  vtkSetClampMacro(JumpThreshold, double, 0.0, 1.0);
+  vtkGetMacro(JumpThreshold, double);
+  ///@}
+
+  ///@{
+  /**
+   * Distance, relative to the scene size, within which an occluder edge lying
+   * in a receiver's plane counts as touching it. Default 1e-6, range
+   * [0, 1e-2].
+   */
+  vtkSetClampMacro(ContactTolerance, double, 0.0, 1e-2);
+  vtkGetMacro(ContactTolerance, double);
+  ///@}
+
+protected:
+  vtkDiscontinuityMesher() = default;
+  ~vtkDiscontinuityMesher() override = default;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  std::vector<vtkIdType> ShooterIds;
+  double ShooterPowerFraction = 0.0;
+  double MinimumAngle = 0.0;
+  bool OccluderOccluderEvents = true;
+  bool InteriorEvents = false;
+  bool PlaneEvents = true;
+  bool Contacts = true;
+  double JumpThreshold = 0.0;
+  double ContactTolerance = 1e-6;
+
+private:
+  vtkDiscontinuityMesher(const vtkDiscontinuityMesher&) = delete;
+  void operator=(const vtkDiscontinuityMesher&) = delete;
+};
+
+#endif

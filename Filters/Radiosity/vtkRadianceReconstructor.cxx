@@ -1,0 +1,378 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkRadianceReconstructor.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPTools.h"
+
+#include "penumbraReconstruction.h"
+#include "penumbraScene.h"
+
+#include <array>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <unordered_map>
+
+vtkStandardNewMacro(vtkRadianceReconstructor);
+
+namespace
+{
+/// The cells of one surface, by kind (input cell ids and point ids).
+struct SurfaceCells
+{
+  std::vector<std::array<vtkIdType, 3>> Triangles;
+  std::vector<std::array<vtkIdType, 2>> Lines;
+  std::vector<int> LineOrders;
+  std::vector<int> LineSources;
+  std::vector<vtkIdType> Probes;
+};
+
+/// One surface's reconstructed output, in its own point numbering.
+struct SurfaceOutput
+{
+  std::vector<penumbra::Vec3> Points;
+  std::vector<double> Radiance;
+  std::vector<double> Error;
+  std::vector<int> Triangles;
+  std::vector<std::vector<int>> Lines;
+  std::vector<int> LineOrders;
+  std::vector<int> LineSources;
+};
+
+penumbra::Vec3 GetPoint(vtkPoints* points, vtkIdType id)
+{
+  double p[3];
+  points->GetPoint(id, p);
+  return { p[0], p[1], p[2] };
+}
+
+/// Reconstruct one surface; throws penumbra::InputError.
+void ReconstructSurface(const SurfaceCells& cells, vtkPoints* points, vtkDataArray* radiance,
+  const penumbra::ReconstructionOptions& options, const penumbra::ResampleOptions& resample,
+  SurfaceOutput& out)
+{
+  // A frame in the surface's plane: normal from the triangles' area vectors.
+  penumbra::Vec3 normal;
+  for (const auto& t : cells.Triangles)
+  {
+    const penumbra::Vec3 a = GetPoint(points, t[0]);
+    normal += penumbra::Cross(GetPoint(points, t[1]) - a, GetPoint(points, t[2]) - a);
+  }
+  normal = penumbra::Normalized(normal);
+  const penumbra::Vec3 origin = GetPoint(points, cells.Triangles[0][0]);
+  penumbra::Vec3 axisU;
+  for (const auto& t : cells.Triangles)
+  {
+    const penumbra::Vec3 edge = GetPoint(points, t[1]) - GetPoint(points, t[0]);
+    axisU = penumbra::Normalized(edge - normal * penumbra::Dot(edge, normal));
+    if (penumbra::SquaredLength(axisU) > 0.5)
+    {
+      break;
+    }
+  }
+  const penumbra::Vec3 axisV = penumbra::Cross(normal, axisU);
+
+  penumbra::SampleMesh mesh;
+  mesh.NumberOfChannels = 3;
+  std::unordered_map<vtkIdType, int> local;
+  std::vector<vtkIdType> global;
+  auto localId = [&](vtkIdType id) {
+    auto found = local.find(id);
+    if (found != local.end())
+    {
+      return found->second;
+    }
+    const penumbra::Vec3 d = GetPoint(points, id) - origin;
+    double value[3];
+    radiance->GetTuple(id, value);
+    const int k = mesh.AddPoint(penumbra::Dot(d, axisU), penumbra::Dot(d, axisV), value);
+    local.emplace(id, k);
+    global.push_back(id);
+    return k;
+  };
+  for (const auto& t : cells.Triangles)
+  {
+    mesh.AddTriangle(localId(t[0]), localId(t[1]), localId(t[2]));
+  }
+  std::vector<std::size_t> keptLines;
+  for (std::size_t k = 0; k < cells.Lines.size(); ++k)
+  {
+    auto a = local.find(cells.Lines[k][0]);
+    auto b = local.find(cells.Lines[k][1]);
+    if (a != local.end() && b != local.end() && cells.LineOrders[k] >= -1 &&
+      cells.LineOrders[k] <= 2)
+    {
+      mesh.AddConstrainedEdge(a->second, b->second, cells.LineOrders[k]);
+      keptLines.push_back(k);
+    }
+  }
+
+  penumbra::Reconstruction reconstruction;
+  reconstruction.Build(mesh, options);
+
+  penumbra::ErrorProbes probes;
+  for (vtkIdType id : cells.Probes)
+  {
+    const penumbra::Vec3 d = GetPoint(points, id) - origin;
+    const double u = penumbra::Dot(d, axisU), v = penumbra::Dot(d, axisV);
+    const int triangle = reconstruction.FindTriangle(u, v);
+    if (triangle < 0)
+    {
+      continue;
+    }
+    double interpolated[3], truth[3], residual[3];
+    reconstruction.EvaluateAt(triangle, u, v, interpolated);
+    radiance->GetTuple(id, truth);
+    for (int c = 0; c < 3; ++c)
+    {
+      residual[c] = truth[c] - interpolated[c];
+    }
+    probes.Add(triangle, residual, 3);
+  }
+
+  penumbra::ResampledMesh result;
+  reconstruction.Resample(resample, result, probes.Triangles.empty() ? nullptr : &probes);
+  const int n = result.GetNumberOfPoints();
+  out.Points.resize(static_cast<std::size_t>(n));
+  for (int p = 0; p < n; ++p)
+  {
+    const int source = result.SourcePoint[p];
+    out.Points[p] = source >= 0
+      ? GetPoint(points, global[source])
+      : origin + axisU * result.Points[2 * p] + axisV * result.Points[2 * p + 1];
+  }
+  out.Radiance = std::move(result.Values);
+  out.Error = std::move(result.ErrorEstimate);
+  out.Triangles = std::move(result.Triangles);
+  for (std::size_t k = 0; k < keptLines.size(); ++k)
+  {
+    const int first = result.LineOffsets[k], last = result.LineOffsets[k + 1];
+    if (last - first >= 2)
+    {
+      out.Lines.emplace_back(result.LinePoints.begin() + first, result.LinePoints.begin() + last);
+      out.LineOrders.push_back(cells.LineOrders[keptLines[k]]);
+      out.LineSources.push_back(cells.LineSources[keptLines[k]]);
+    }
+  }
+}
+}
+
+int vtkRadianceReconstructor::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->Initialize();
+  if (!input || input->GetNumberOfPolys() == 0)
+  {
+    return 1;
+  }
+  vtkDataArray* radiance = input->GetPointData()->GetArray("Radiance");
+  vtkDataArray* surfaceIds = input->GetCellData()->GetArray("SurfaceId");
+  vtkDataArray* orders = input->GetCellData()->GetArray("DiscontinuityOrder");
+  vtkDataArray* sources = input->GetCellData()->GetArray("SourceId");
+  if (!radiance || radiance->GetNumberOfComponents() != 3)
+  {
+    vtkErrorMacro(<< "the input needs a 3-component point array 'Radiance' "
+                     "(run vtkRadianceEvaluator first)");
+    return 0;
+  }
+  if (!surfaceIds)
+  {
+    vtkErrorMacro(<< "the input needs a cell array 'SurfaceId'");
+    return 0;
+  }
+
+  // Sort the cells by surface. Cell ids run over verts, lines, polys, strips.
+  std::map<int, SurfaceCells> surfaces;
+  vtkIdType cellId = 0;
+  std::string error;
+  auto visit = [&](vtkCellArray* cells, int kind) {
+    auto it = vtk::TakeSmartPointer(cells->NewIterator());
+    vtkIdType npts;
+    const vtkIdType* pts;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal() && error.empty();
+         it->GoToNextCell(), ++cellId)
+    {
+      it->GetCurrentCell(npts, pts);
+      SurfaceCells& cells = surfaces[static_cast<int>(surfaceIds->GetComponent(cellId, 0))];
+      if (kind == 0)
+      {
+        for (vtkIdType k = 0; k < npts; ++k)
+        {
+          cells.Probes.push_back(pts[k]);
+        }
+      }
+      else if (kind == 1)
+      {
+        for (vtkIdType k = 0; k + 1 < npts; ++k)
+        {
+          cells.Lines.push_back({ pts[k], pts[k + 1] });
+          cells.LineOrders.push_back(orders ? static_cast<int>(orders->GetComponent(cellId, 0)) : 2);
+          cells.LineSources.push_back(
+            sources ? static_cast<int>(sources->GetComponent(cellId, 0)) : -1);
+        }
+      }
+      else if (npts != 3)
+      {
+        error = "cell " + std::to_string(cellId) + " is a polygon with " + std::to_string(npts) +
+          " points; the sample mesh must be triangles";
+      }
+      else
+      {
+        cells.Triangles.push_back({ pts[0], pts[1], pts[2] });
+      }
+    }
+  };
+  visit(input->GetVerts(), 0);
+  visit(input->GetLines(), 1);
+  visit(input->GetPolys(), 2);
+  if (error.empty() && input->GetNumberOfStrips() > 0)
+  {
+    error = "triangle strips are not supported; triangulate the sample mesh first";
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+
+  penumbra::ReconstructionOptions options;
+  options.Mode = this->Mode == LINEAR ? penumbra::ReconstructionMode::Linear
+                                      : penumbra::ReconstructionMode::CloughTocher;
+  options.EnforceNonNegativity = this->EnforceNonNegativity;
+  penumbra::ResampleOptions resample;
+  resample.SubdivisionLevel = this->SubdivisionLevel;
+  resample.TargetEdgeLength = this->TargetEdgeLength;
+  resample.ComputeErrorEstimate = this->ComputeErrorEstimate;
+
+  std::vector<int> ids;
+  std::vector<const SurfaceCells*> work;
+  for (const auto& entry : surfaces)
+  {
+    if (!entry.second.Triangles.empty())
+    {
+      ids.push_back(entry.first);
+      work.push_back(&entry.second);
+    }
+  }
+  std::vector<SurfaceOutput> results(work.size());
+  std::mutex errorMutex;
+  vtkPoints* points = input->GetPoints();
+  this->UpdateProgress(0.0);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(work.size()), [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType s = first; s < last; ++s)
+    {
+      try
+      {
+        ReconstructSurface(*work[s], points, radiance, options, resample, results[s]);
+      }
+      catch (const std::exception& e)
+      {
+        std::lock_guard<std::mutex> lock(errorMutex);
+        if (error.empty())
+        {
+          error = "surface " + std::to_string(ids[s]) + ": " + e.what();
+        }
+      }
+    }
+  });
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+
+  vtkNew<vtkPoints> outPoints;
+  outPoints->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> outLines, outPolys;
+  vtkNew<vtkDoubleArray> outRadiance, outError;
+  outRadiance->SetName("Radiance");
+  outRadiance->SetNumberOfComponents(3);
+  outError->SetName("RadianceErrorEstimate");
+  outError->SetNumberOfComponents(3);
+  std::vector<int> lineSurface, lineOrder, lineSource, polySurface;
+  for (std::size_t s = 0; s < results.size(); ++s)
+  {
+    const SurfaceOutput& r = results[s];
+    const vtkIdType offset = outPoints->GetNumberOfPoints();
+    for (std::size_t p = 0; p < r.Points.size(); ++p)
+    {
+      outPoints->InsertNextPoint(r.Points[p].X, r.Points[p].Y, r.Points[p].Z);
+      outRadiance->InsertNextTuple(&r.Radiance[3 * p]);
+      if (this->ComputeErrorEstimate)
+      {
+        outError->InsertNextTuple(&r.Error[3 * p]);
+      }
+    }
+    for (std::size_t t = 0; t + 2 < r.Triangles.size(); t += 3)
+    {
+      const vtkIdType tri[3] = { offset + r.Triangles[t], offset + r.Triangles[t + 1],
+        offset + r.Triangles[t + 2] };
+      outPolys->InsertNextCell(3, tri);
+      polySurface.push_back(ids[s]);
+    }
+    for (std::size_t k = 0; k < r.Lines.size(); ++k)
+    {
+      outLines->InsertNextCell(static_cast<vtkIdType>(r.Lines[k].size()));
+      for (int p : r.Lines[k])
+      {
+        outLines->InsertCellPoint(offset + p);
+      }
+      lineSurface.push_back(ids[s]);
+      lineOrder.push_back(r.LineOrders[k]);
+      lineSource.push_back(r.LineSources[k]);
+    }
+  }
+  output->SetPoints(outPoints);
+  output->SetLines(outLines);
+  output->SetPolys(outPolys);
+  output->GetPointData()->AddArray(outRadiance);
+  output->GetPointData()->SetActiveScalars("Radiance");
+  if (this->ComputeErrorEstimate)
+  {
+    output->GetPointData()->AddArray(outError);
+  }
+  // Cell data: lines first, then triangles (-2 / -1: not edges).
+  auto addCellArray = [&](const char* name, const std::vector<int>& lineValues,
+                        const std::vector<int>* polyValues, int polyDefault) {
+    vtkNew<vtkIntArray> array;
+    array->SetName(name);
+    for (int v : lineValues)
+    {
+      array->InsertNextValue(v);
+    }
+    for (std::size_t t = 0; t < polySurface.size(); ++t)
+    {
+      array->InsertNextValue(polyValues ? (*polyValues)[t] : polyDefault);
+    }
+    output->GetCellData()->AddArray(array);
+  };
+  addCellArray("SurfaceId", lineSurface, &polySurface, 0);
+  addCellArray("DiscontinuityOrder", lineOrder, nullptr, -2);
+  addCellArray("SourceId", lineSource, nullptr, -1);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkRadianceReconstructor::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Mode: " << (this->Mode == LINEAR ? "LINEAR" : "CLOUGH_TOCHER") << "\n";
+  os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
+  os << indent << "TargetEdgeLength: " << this->TargetEdgeLength << "\n";
+  os << indent << "EnforceNonNegativity: " << (this->EnforceNonNegativity ? "On" : "Off") << "\n";
+  os << indent << "ComputeErrorEstimate: " << (this->ComputeErrorEstimate ? "On" : "Off") << "\n";
+}

@@ -1,0 +1,122 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkRadianceReconstructor
+ * @brief   Piecewise-smooth reconstruction of radiance from samples (paper §6).
+ *
+ * Input: a sample mesh with point data `Radiance` (3 components): triangles
+ * with cell data `SurfaceId`, and optionally lines with cell data
+ * `DiscontinuityOrder` (and `SourceId`) marking the discontinuities, as
+ * produced by vtkDiscontinuityMesher followed by vtkRadianceEvaluator.
+ * Points along order-0 lines must be duplicated (one copy per side).
+ * Optional vertex cells with `SurfaceId` are probes: points where the true
+ * radiance is known (point data `Radiance`) but which are not samples; the
+ * adaptive sampling of vtkRadianceEvaluator emits them, and their residuals
+ * feed the error estimate.
+ *
+ * For each surface the radiance is reconstructed with a C1 piecewise cubic
+ * (Clough–Tocher) inside each smooth region, vertex gradients fitted by
+ * least-squares quadratics among neighbours on the same side of order-0 and
+ * order-1 lines; C0 across order-1 lines, a jump across order-0 lines, C1
+ * across order-2 lines. Patches that would dip below zero are repaired by
+ * scaling gradients, keeping continuity: the output is never negative. Mode
+ * LINEAR interpolates the samples linearly instead (for comparison).
+ *
+ * Output (design contract): triangles covering every surface of the input,
+ * each input triangle subdivided SubdivisionLevel times per edge (or to
+ * TargetEdgeLength), cell data `SurfaceId`; point data `Radiance` (active
+ * scalars; displaying it linearly interpolated is the reconstruction) and
+ * `RadianceErrorEstimate` (3 components, same units: an estimate of the
+ * reconstruction error at each point, from the probes' residuals and the
+ * difference between the cubic and a wider cubic model); the input lines
+ * carried through as polylines of output points with their
+ * `DiscontinuityOrder` and `SourceId`.
+ *
+ * @sa vtkRadianceEvaluator vtkDiscontinuityMesher
+ */
+#ifndef vtkRadianceReconstructor_h
+#define vtkRadianceReconstructor_h
+
+#include "vtkPenumbraFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class VTKPENUMBRAFILTERS_EXPORT vtkRadianceReconstructor : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkRadianceReconstructor* New();
+  vtkTypeMacro(vtkRadianceReconstructor, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Reconstruction modes.
+  enum Modes
+  {
+    LINEAR = 0,       ///< linear over each sample triangle (C0; Mach bands)
+    CLOUGH_TOCHER = 1 ///< C1 piecewise cubic in each smooth region (default)
+  };
+
+  ///@{
+  /**
+   * The interpolant: LINEAR (0) or CLOUGH_TOCHER (1, default).
+   */
+  vtkSetClampMacro(Mode, int, LINEAR, CLOUGH_TOCHER);
+  vtkGetMacro(Mode, int);
+  void SetModeToLinear() { this->SetMode(LINEAR); }
+  void SetModeToCloughTocher() { this->SetMode(CLOUGH_TOCHER); }
+  ///@}
+
+  ///@{
+  /**
+   * Display resampling: each input triangle edge is divided into this many
+   * pieces (level s gives s*s output triangles per input triangle). Default
+   * 4, range [1, 64]. Ignored when TargetEdgeLength is positive.
+   */
+  vtkSetClampMacro(SubdivisionLevel, int, 1, 64);
+  vtkGetMacro(SubdivisionLevel, int);
+  ///@}
+
+  ///@{
+  /**
+   * When positive, divide each input edge into pieces no longer than this
+   * (scene units; at most 64 pieces per edge) instead of SubdivisionLevel.
+   * Default 0 (off), range [0, 1e300].
+   */
+  vtkSetClampMacro(TargetEdgeLength, double, 0.0, 1e300);
+  vtkGetMacro(TargetEdgeLength, double);
+  ///@}
+
+  ///@{
+  /**
+   * Repair cubic patches that would dip below zero (keeps continuity).
+   * Default on. Off only to study the raw interpolant.
+   */
+  vtkSetMacro(EnforceNonNegativity, bool);
+  vtkGetMacro(EnforceNonNegativity, bool);
+  vtkBooleanMacro(EnforceNonNegativity, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Compute the `RadianceErrorEstimate` point array. Default on.
+   */
+  vtkSetMacro(ComputeErrorEstimate, bool);
+  vtkGetMacro(ComputeErrorEstimate, bool);
+  vtkBooleanMacro(ComputeErrorEstimate, bool);
+  ///@}
+
+protected:
+  vtkRadianceReconstructor() = default;
+  ~vtkRadianceReconstructor() override = default;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Mode = CLOUGH_TOCHER;
+  int SubdivisionLevel = 4;
+  double TargetEdgeLength = 0.0;
+  bool EnforceNonNegativity = true;
+  bool ComputeErrorEstimate = true;
+
+private:
+  vtkRadianceReconstructor(const vtkRadianceReconstructor&) = delete;
+  void operator=(const vtkRadianceReconstructor&) = delete;
+};
+
+#endif
