@@ -73,7 +73,8 @@ Surface Polygon(std::vector<Vec3> v, const Vec3& front)
 // Axis-aligned rectangle at height z, x in [x0,x1], y in [y0,y1].
 Surface HorizontalRect(double x0, double x1, double y0, double y1, double z, double facing)
 {
-  return Polygon({ { x0, y0, z }, { x1, y0, z }, { x1, y1, z }, { x0, y1, z } }, Vec3(0, 0, facing));
+  return Polygon(
+    { { x0, y0, z }, { x1, y0, z }, { x1, y1, z }, { x0, y1, z } }, Vec3(0, 0, facing));
 }
 
 // The unit light [-0.5, 0.5]^2 at height h facing down, and a floor.
@@ -83,20 +84,26 @@ Scene LightAndFloor(double h)
   Surface light = HorizontalRect(-0.5, 0.5, -0.5, 0.5, h, -1.0);
   light.Emission = penumbra::RGB(10, 8, 6);
   light.Reflectance = penumbra::RGB(0, 0, 0);
-  scene.Surfaces.push_back(light);                                       // 0: shooter
-  scene.Surfaces.push_back(HorizontalRect(-3, 3, -3, 3, 0.0, 1.0));      // 1: receiver
+  scene.Surfaces.push_back(light);                                  // 0: shooter
+  scene.Surfaces.push_back(HorizontalRect(-3, 3, -3, 3, 0.0, 1.0)); // 1: receiver
   return scene;
 }
 
 void AddBox(Scene& scene, const Vec3& lo, const Vec3& hi)
 {
   const double x0 = lo.X, y0 = lo.Y, z0 = lo.Z, x1 = hi.X, y1 = hi.Y, z1 = hi.Z;
-  scene.Surfaces.push_back(Polygon({ { x0, y0, z1 }, { x1, y0, z1 }, { x1, y1, z1 }, { x0, y1, z1 } }, Vec3(0, 0, 1)));
-  scene.Surfaces.push_back(Polygon({ { x0, y0, z0 }, { x1, y0, z0 }, { x1, y1, z0 }, { x0, y1, z0 } }, Vec3(0, 0, -1)));
-  scene.Surfaces.push_back(Polygon({ { x0, y0, z0 }, { x0, y1, z0 }, { x0, y1, z1 }, { x0, y0, z1 } }, Vec3(-1, 0, 0)));
-  scene.Surfaces.push_back(Polygon({ { x1, y0, z0 }, { x1, y1, z0 }, { x1, y1, z1 }, { x1, y0, z1 } }, Vec3(1, 0, 0)));
-  scene.Surfaces.push_back(Polygon({ { x0, y0, z0 }, { x1, y0, z0 }, { x1, y0, z1 }, { x0, y0, z1 } }, Vec3(0, -1, 0)));
-  scene.Surfaces.push_back(Polygon({ { x0, y1, z0 }, { x1, y1, z0 }, { x1, y1, z1 }, { x0, y1, z1 } }, Vec3(0, 1, 0)));
+  scene.Surfaces.push_back(
+    Polygon({ { x0, y0, z1 }, { x1, y0, z1 }, { x1, y1, z1 }, { x0, y1, z1 } }, Vec3(0, 0, 1)));
+  scene.Surfaces.push_back(
+    Polygon({ { x0, y0, z0 }, { x1, y0, z0 }, { x1, y1, z0 }, { x0, y1, z0 } }, Vec3(0, 0, -1)));
+  scene.Surfaces.push_back(
+    Polygon({ { x0, y0, z0 }, { x0, y1, z0 }, { x0, y1, z1 }, { x0, y0, z1 } }, Vec3(-1, 0, 0)));
+  scene.Surfaces.push_back(
+    Polygon({ { x1, y0, z0 }, { x1, y1, z0 }, { x1, y1, z1 }, { x1, y0, z1 } }, Vec3(1, 0, 0)));
+  scene.Surfaces.push_back(
+    Polygon({ { x0, y0, z0 }, { x1, y0, z0 }, { x1, y0, z1 }, { x0, y0, z1 } }, Vec3(0, -1, 0)));
+  scene.Surfaces.push_back(
+    Polygon({ { x0, y1, z0 }, { x1, y1, z0 }, { x1, y1, z1 }, { x0, y1, z1 } }, Vec3(0, 1, 0)));
 }
 
 // ---------------------------------------------------------------- references
@@ -188,7 +195,8 @@ Estimate MonteCarlo(const Scene& scene, int shooter, int receiver, const Vec3& x
   double sum = 0.0, sum2 = 0.0;
   for (int k = 0; k < samples; ++k)
   {
-    const Vec3 y = sv[0] + u * (u0 + (u1 - u0) * uniform(rng)) + w * (w0 + (w1 - w0) * uniform(rng));
+    const Vec3 y =
+      sv[0] + u * (u0 + (u1 - u0) * uniform(rng)) + w * (w0 + (w1 - w0) * uniform(rng));
     double f = 0.0;
     if (InsidePolygon(sv, ns, y))
     {
@@ -251,7 +259,8 @@ void CompareMonteCarlo(const char* name, const Scene& scene, int shooter, int re
     penumbra::VisibleFormFactor(evaluator.GetOccluders(), x, n, shooter, receiver, all, ws);
   PENUMBRA_EXPECT_NEAR(viaShaft, exact, 1e-14);
   PENUMBRA_EXPECT_NEAR(viaAll, exact, 1e-14);
-  const double open = penumbra::PointPolygonFormFactorClipped(x, n, scene.Surfaces[shooter].Vertices);
+  const double open =
+    penumbra::PointPolygonFormFactorClipped(x, n, scene.Surfaces[shooter].Vertices);
   PENUMBRA_EXPECT(exact >= 0.0 && exact <= open + 1e-15);
 
   // Seed from the case's name, so that cases do not change each other's samples.
@@ -298,8 +307,8 @@ void TestOneOccluderClosedForm()
     PENUMBRA_EXPECT_REL(f, reference, 1e-12);
     const double hiddenArea = std::max(0.0, ix1 - ix0) * std::max(0.0, iy1 - iy0);
     PENUMBRA_EXPECT_NEAR(region.GetArea(), 1.0 - hiddenArea, 1e-13);
-    std::printf("one occluder, x = (%5.2f, %5.2f): F = %.15f closed form %.15f\n", p[0], p[1], f,
-      reference);
+    std::printf(
+      "one occluder, x = (%5.2f, %5.2f): F = %.15f closed form %.15f\n", p[0], p[1], f, reference);
     // Contributed radiance rho * Le * F.
     const penumbra::RGB l = evaluator.ContributedRadiance(x, Vec3(0, 0, 1), 1, 0, ws);
     PENUMBRA_EXPECT_REL(l.R, 0.5 * 10.0 * reference, 1e-12);
@@ -310,11 +319,13 @@ void TestOneOccluderClosedForm()
     const Vec3 x(0.2, -0.1, 0.0);
     PENUMBRA_EXPECT(evaluator.FormFactor(x, Vec3(0, 0, 0), 1, 0, ws, &region) == 0.0);
     const double px0 = 2 * ox0 - x.X, px1 = 2 * ox1 - x.X, py0 = 2 * oy0 - x.Y, py1 = 2 * oy1 - x.Y;
-    const double hidden = (std::min(px1, 0.5) - std::max(px0, -0.5)) * (std::min(py1, 0.5) - std::max(py0, -0.5));
+    const double hidden =
+      (std::min(px1, 0.5) - std::max(px0, -0.5)) * (std::min(py1, 0.5) - std::max(py0, -0.5));
     PENUMBRA_EXPECT_NEAR(region.GetArea(), 1.0 - hidden, 1e-13);
     // From a corner of the occluder itself (lying on it): the occluder does
     // not hide anything from its own vertex, the light is fully visible.
-    PENUMBRA_EXPECT(evaluator.FormFactor(Vec3(ox0, oy0, zo), Vec3(0, 0, 0), -1, 0, ws, &region) == 0.0);
+    PENUMBRA_EXPECT(
+      evaluator.FormFactor(Vec3(ox0, oy0, zo), Vec3(0, 0, 0), -1, 0, ws, &region) == 0.0);
     PENUMBRA_EXPECT_NEAR(region.GetArea(), 1.0, 1e-13);
   }
   // A larger occluder hides the light completely from under its centre.
@@ -336,18 +347,24 @@ void TestOverlappingOccluders()
   Scene scene = LightAndFloor(2.0);
   scene.Surfaces.push_back(HorizontalRect(-0.4, 0.1, -0.3, 0.2, 1.2, -1.0));
   scene.Surfaces.push_back(HorizontalRect(-0.1, 0.35, -0.1, 0.4, 0.8, 1.0));
-  scene.Surfaces.push_back(Polygon(
-    { { -0.2, -0.4, 1.5 }, { 0.3, -0.4, 1.0 }, { 0.3, 0.0, 1.0 }, { -0.2, 0.0, 1.5 } }, Vec3(1, 0, 1)));
+  scene.Surfaces.push_back(
+    Polygon({ { -0.2, -0.4, 1.5 }, { 0.3, -0.4, 1.0 }, { 0.3, 0.0, 1.0 }, { -0.2, 0.0, 1.5 } },
+      Vec3(1, 0, 1)));
   scene.Surfaces.push_back(
     Polygon({ { 0.0, 0.1, 1.6 }, { 0.4, 0.3, 1.4 }, { 0.1, 0.5, 1.7 } }, Vec3(0, 0, -1)));
   // Two occluders crossing each other.
   scene.Surfaces.push_back(Polygon(
-    { { -0.45, 0.2, 1.3 }, { 0.05, 0.2, 1.3 }, { 0.05, 0.45, 1.55 }, { -0.45, 0.45, 1.55 } }, Vec3(0, 0, 1)));
-  scene.Surfaces.push_back(Polygon(
-    { { -0.3, 0.1, 1.55 }, { -0.3, 0.5, 1.55 }, { -0.3, 0.5, 1.2 }, { -0.3, 0.1, 1.2 } }, Vec3(1, 0, 0)));
-  CompareMonteCarlo("overlapping occluders, centre", scene, 0, 1, Vec3(0.0, 0.0, 0.0), Vec3(0, 0, 1));
-  CompareMonteCarlo("overlapping occluders, penumbra", scene, 0, 1, Vec3(0.45, -0.3, 0.0), Vec3(0, 0, 1));
-  CompareMonteCarlo("overlapping occluders, side", scene, 0, 1, Vec3(-0.8, 0.6, 0.0), Vec3(0, 0, 1));
+    { { -0.45, 0.2, 1.3 }, { 0.05, 0.2, 1.3 }, { 0.05, 0.45, 1.55 }, { -0.45, 0.45, 1.55 } },
+    Vec3(0, 0, 1)));
+  scene.Surfaces.push_back(
+    Polygon({ { -0.3, 0.1, 1.55 }, { -0.3, 0.5, 1.55 }, { -0.3, 0.5, 1.2 }, { -0.3, 0.1, 1.2 } },
+      Vec3(1, 0, 0)));
+  CompareMonteCarlo(
+    "overlapping occluders, centre", scene, 0, 1, Vec3(0.0, 0.0, 0.0), Vec3(0, 0, 1));
+  CompareMonteCarlo(
+    "overlapping occluders, penumbra", scene, 0, 1, Vec3(0.45, -0.3, 0.0), Vec3(0, 0, 1));
+  CompareMonteCarlo(
+    "overlapping occluders, side", scene, 0, 1, Vec3(-0.8, 0.6, 0.0), Vec3(0, 0, 1));
 }
 
 void TestBoxOnFloor()
@@ -397,23 +414,29 @@ void TestBoxOnFloor()
     PENUMBRA_EXPECT_REL(f, reference, 1e-6);
     std::printf("box on floor, 1e-9 from its face: F = %.9e, reference %.9e\n", f, reference);
   }
-  CompareMonteCarlo("box on floor, shadow side", scene, 0, 1, Vec3(0.1 - 1e-7, 0.1, 0.0), Vec3(0, 0, 1));
-  CompareMonteCarlo("box on floor, near a corner", scene, 0, 1, Vec3(0.52, 0.21, 0.0), Vec3(0, 0, 1));
+  CompareMonteCarlo(
+    "box on floor, shadow side", scene, 0, 1, Vec3(0.1 - 1e-7, 0.1, 0.0), Vec3(0, 0, 1));
+  CompareMonteCarlo(
+    "box on floor, near a corner", scene, 0, 1, Vec3(0.52, 0.21, 0.0), Vec3(0, 0, 1));
   // Exactly on the contact line (the box's side plane through x): the side
   // face is seen edge-on and casts nothing; the rest of the box still does.
-  CompareMonteCarlo("box on floor, on the contact line", scene, 0, 1, Vec3(0.5, 0.1, 0.0), Vec3(0, 0, 1));
+  CompareMonteCarlo(
+    "box on floor, on the contact line", scene, 0, 1, Vec3(0.5, 0.1, 0.0), Vec3(0, 0, 1));
 }
 
 void TestStraddlingShooterPlane()
 {
   Scene scene = LightAndFloor(2.0);
   // Vertical plate piercing the light.
-  scene.Surfaces.push_back(Polygon(
-    { { 0.1, -0.3, 1.5 }, { 0.1, 0.3, 1.5 }, { 0.1, 0.3, 2.5 }, { 0.1, -0.3, 2.5 } }, Vec3(1, 0, 0)));
+  scene.Surfaces.push_back(
+    Polygon({ { 0.1, -0.3, 1.5 }, { 0.1, 0.3, 1.5 }, { 0.1, 0.3, 2.5 }, { 0.1, -0.3, 2.5 } },
+      Vec3(1, 0, 0)));
   // Tilted plate crossing the light's plane.
-  scene.Surfaces.push_back(Polygon(
-    { { -0.4, -0.2, 1.7 }, { 0.0, -0.2, 2.3 }, { 0.0, 0.3, 2.3 }, { -0.4, 0.3, 1.7 } }, Vec3(0, 0, -1)));
-  CompareMonteCarlo("straddling the shooter's plane", scene, 0, 1, Vec3(0.3, 0.1, 0.0), Vec3(0, 0, 1));
+  scene.Surfaces.push_back(
+    Polygon({ { -0.4, -0.2, 1.7 }, { 0.0, -0.2, 2.3 }, { 0.0, 0.3, 2.3 }, { -0.4, 0.3, 1.7 } },
+      Vec3(0, 0, -1)));
+  CompareMonteCarlo(
+    "straddling the shooter's plane", scene, 0, 1, Vec3(0.3, 0.1, 0.0), Vec3(0, 0, 1));
   CompareMonteCarlo("straddling, other side", scene, 0, 1, Vec3(-0.6, -0.2, 0.0), Vec3(0, 0, 1));
 }
 
@@ -421,15 +444,20 @@ void TestTouchingAndTangent()
 {
   Scene scene = LightAndFloor(2.0);
   // A wall whose top edge lies in the light (touches the shooter).
-  scene.Surfaces.push_back(Polygon(
-    { { -0.2, 0.1, 1.2 }, { 0.3, 0.1, 1.2 }, { 0.3, 0.1, 2.0 }, { -0.2, 0.1, 2.0 } }, Vec3(0, 1, 0)));
+  scene.Surfaces.push_back(
+    Polygon({ { -0.2, 0.1, 1.2 }, { 0.3, 0.1, 1.2 }, { 0.3, 0.1, 2.0 }, { -0.2, 0.1, 2.0 } },
+      Vec3(0, 1, 0)));
   // A wall crossing the floor near x (straddles x's tangent plane).
-  scene.Surfaces.push_back(Polygon(
-    { { -0.7, -0.5, -0.2 }, { -0.7, 0.5, -0.2 }, { -0.7, 0.5, 0.8 }, { -0.7, -0.5, 0.8 } }, Vec3(1, 0, 0)));
+  scene.Surfaces.push_back(
+    Polygon({ { -0.7, -0.5, -0.2 }, { -0.7, 0.5, -0.2 }, { -0.7, 0.5, 0.8 }, { -0.7, -0.5, 0.8 } },
+      Vec3(1, 0, 0)));
   CompareMonteCarlo("touching the shooter", scene, 0, 1, Vec3(0.1, 0.4, 0.0), Vec3(0, 0, 1));
-  CompareMonteCarlo("touching the shooter, other side", scene, 0, 1, Vec3(0.0, -0.3, 0.0), Vec3(0, 0, 1));
-  CompareMonteCarlo("crossing the tangent plane", scene, 0, 1, Vec3(-0.75, 0.1, 0.0), Vec3(0, 0, 1));
-  CompareMonteCarlo("crossing the tangent plane (lit)", scene, 0, 1, Vec3(-0.65, 0.1, 0.0), Vec3(0, 0, 1));
+  CompareMonteCarlo(
+    "touching the shooter, other side", scene, 0, 1, Vec3(0.0, -0.3, 0.0), Vec3(0, 0, 1));
+  CompareMonteCarlo(
+    "crossing the tangent plane", scene, 0, 1, Vec3(-0.75, 0.1, 0.0), Vec3(0, 0, 1));
+  CompareMonteCarlo(
+    "crossing the tangent plane (lit)", scene, 0, 1, Vec3(-0.65, 0.1, 0.0), Vec3(0, 0, 1));
 }
 
 void TestTiltedReceiver()
@@ -454,11 +482,12 @@ void TestConcave()
   scene.Surfaces.push_back(light);
   scene.Surfaces.push_back(HorizontalRect(-3, 3, -3, 3, 0.0, 1.0));
   // A U-shaped (concave) occluder, tilted.
-  scene.Surfaces.push_back(Polygon({ { -0.4, -0.3, 1.0 }, { 0.4, -0.3, 1.2 }, { 0.4, 0.3, 1.2 },
-                                     { 0.2, 0.3, 1.15 }, { 0.2, -0.1, 1.15 }, { -0.2, -0.1, 1.05 },
-                                     { -0.2, 0.3, 1.05 }, { -0.4, 0.3, 1.0 } },
-    Vec3(0, 0, 1)));
-  CompareMonteCarlo("concave shooter and occluder", scene, 0, 1, Vec3(0.05, 0.1, 0.0), Vec3(0, 0, 1));
+  scene.Surfaces.push_back(
+    Polygon({ { -0.4, -0.3, 1.0 }, { 0.4, -0.3, 1.2 }, { 0.4, 0.3, 1.2 }, { 0.2, 0.3, 1.15 },
+              { 0.2, -0.1, 1.15 }, { -0.2, -0.1, 1.05 }, { -0.2, 0.3, 1.05 }, { -0.4, 0.3, 1.0 } },
+      Vec3(0, 0, 1)));
+  CompareMonteCarlo(
+    "concave shooter and occluder", scene, 0, 1, Vec3(0.05, 0.1, 0.0), Vec3(0, 0, 1));
   CompareMonteCarlo("concave, off-centre", scene, 0, 1, Vec3(-0.4, 0.5, 0.0), Vec3(0, 0, 1));
   // Unoccluded concave shooter: the exact value is Lambert's formula on the L.
   Scene open;
@@ -476,8 +505,9 @@ void TestEdgeOn()
 {
   Scene scene = LightAndFloor(2.0);
   // A vertical plate in the plane x = 0, through the floor.
-  scene.Surfaces.push_back(Polygon(
-    { { 0.0, -1.0, -0.5 }, { 0.0, 1.0, -0.5 }, { 0.0, 1.0, 1.5 }, { 0.0, -1.0, 1.5 } }, Vec3(1, 0, 0)));
+  scene.Surfaces.push_back(
+    Polygon({ { 0.0, -1.0, -0.5 }, { 0.0, 1.0, -0.5 }, { 0.0, 1.0, 1.5 }, { 0.0, -1.0, 1.5 } },
+      Vec3(1, 0, 0)));
   penumbra::ExactEvaluator evaluator(scene);
   penumbra::VisibilityWorkspace ws;
   const Vec3 n(0, 0, 1);
@@ -504,13 +534,14 @@ void TestShooterPlane()
   Scene scene = LightAndFloor(2.0);
   scene.Surfaces.push_back(HorizontalRect(-0.2, 0.2, -0.2, 0.2, 1.0, 1.0));
   // A wall through the light's edge line x = 0.5 as receiver.
-  scene.Surfaces.push_back(Polygon(
-    { { 0.5, -1, 0 }, { 0.5, 1, 0 }, { 0.5, 1, 2.5 }, { 0.5, -1, 2.5 } }, Vec3(-1, 0, 0)));
+  scene.Surfaces.push_back(
+    Polygon({ { 0.5, -1, 0 }, { 0.5, 1, 0 }, { 0.5, 1, 2.5 }, { 0.5, -1, 2.5 } }, Vec3(-1, 0, 0)));
   penumbra::ExactEvaluator evaluator(scene);
   penumbra::VisibilityWorkspace ws;
   penumbra::VisibleRegion region;
   // On the shooter's plane, inside and outside it, and on an edge's line.
-  const Vec3 onPlane[] = { { 0.2, 0.1, 2.0 }, { 0.9, 0.0, 2.0 }, { 0.5, 0.0, 2.0 }, { 0.5, 0.7, 2.0 } };
+  const Vec3 onPlane[] = { { 0.2, 0.1, 2.0 }, { 0.9, 0.0, 2.0 }, { 0.5, 0.0, 2.0 },
+    { 0.5, 0.7, 2.0 } };
   for (const Vec3& x : onPlane)
   {
     PENUMBRA_EXPECT(evaluator.FormFactor(x, Vec3(0, 0, 1), 1, 0, ws, &region) == 0.0);
@@ -539,31 +570,34 @@ void TestShooterPlane()
   PENUMBRA_EXPECT(lowEvaluator.FormFactor(Vec3(0.5, 0.0, 0.0), Vec3(-1, 0, 0), 1, 0, ws) == 0.0);
   // On the wall through the edge line, below the light: the light is seen at
   // grazing angles, half of it behind the tangent plane. Compare with MC.
-  CompareMonteCarlo("receiver through an edge line", scene, 0, 3, Vec3(0.5, 0.1, 1.4), Vec3(-1, 0, 0));
+  CompareMonteCarlo(
+    "receiver through an edge line", scene, 0, 3, Vec3(0.5, 0.1, 1.4), Vec3(-1, 0, 0));
 }
 
 // The Cornell box (millimetres), the light 0.1 mm below the ceiling.
 Scene CornellBox()
 {
   Scene scene;
-  Surface light = Polygon({ { 343, 548.7, 227 }, { 343, 548.7, 332 }, { 213, 548.7, 332 },
-                            { 213, 548.7, 227 } },
-    Vec3(0, -1, 0));
+  Surface light =
+    Polygon({ { 343, 548.7, 227 }, { 343, 548.7, 332 }, { 213, 548.7, 332 }, { 213, 548.7, 227 } },
+      Vec3(0, -1, 0));
   light.Emission = penumbra::RGB(17, 12, 4);
   scene.Surfaces.push_back(light); // 0
-  scene.Surfaces.push_back(Polygon(
-    { { 552.8, 0, 0 }, { 0, 0, 0 }, { 0, 0, 559.2 }, { 549.6, 0, 559.2 } }, Vec3(0, 1, 0))); // 1 floor
-  scene.Surfaces.push_back(Polygon({ { 556, 548.8, 0 }, { 556, 548.8, 559.2 }, { 0, 548.8, 559.2 },
-                                     { 0, 548.8, 0 } },
-    Vec3(0, -1, 0))); // 2 ceiling
-  scene.Surfaces.push_back(Polygon({ { 549.6, 0, 559.2 }, { 0, 0, 559.2 }, { 0, 548.8, 559.2 },
-                                     { 556, 548.8, 559.2 } },
-    Vec3(0, 0, -1))); // 3 back
-  scene.Surfaces.push_back(Polygon(
-    { { 0, 0, 559.2 }, { 0, 0, 0 }, { 0, 548.8, 0 }, { 0, 548.8, 559.2 } }, Vec3(1, 0, 0))); // 4 right
-  scene.Surfaces.push_back(Polygon({ { 552.8, 0, 0 }, { 549.6, 0, 559.2 }, { 556, 548.8, 559.2 },
-                                     { 556, 548.8, 0 } },
-    Vec3(-1, 0, 0))); // 5 left
+  scene.Surfaces.push_back(
+    Polygon({ { 552.8, 0, 0 }, { 0, 0, 0 }, { 0, 0, 559.2 }, { 549.6, 0, 559.2 } },
+      Vec3(0, 1, 0))); // 1 floor
+  scene.Surfaces.push_back(
+    Polygon({ { 556, 548.8, 0 }, { 556, 548.8, 559.2 }, { 0, 548.8, 559.2 }, { 0, 548.8, 0 } },
+      Vec3(0, -1, 0))); // 2 ceiling
+  scene.Surfaces.push_back(
+    Polygon({ { 549.6, 0, 559.2 }, { 0, 0, 559.2 }, { 0, 548.8, 559.2 }, { 556, 548.8, 559.2 } },
+      Vec3(0, 0, -1))); // 3 back
+  scene.Surfaces.push_back(
+    Polygon({ { 0, 0, 559.2 }, { 0, 0, 0 }, { 0, 548.8, 0 }, { 0, 548.8, 559.2 } },
+      Vec3(1, 0, 0))); // 4 right
+  scene.Surfaces.push_back(
+    Polygon({ { 552.8, 0, 0 }, { 549.6, 0, 559.2 }, { 556, 548.8, 559.2 }, { 556, 548.8, 0 } },
+      Vec3(-1, 0, 0))); // 5 left
   auto block = [&scene](const std::vector<Vec3>& top) {
     Vec3 centre;
     for (const Vec3& v : top)
@@ -579,7 +613,7 @@ Scene CornellBox()
         Polygon({ a, b, Vec3(b.X, 0, b.Z), Vec3(a.X, 0, a.Z) }, mid - centre));
     }
   };
-  block({ { 130, 165, 65 }, { 82, 165, 225 }, { 240, 165, 272 }, { 290, 165, 114 } }); // 6-10
+  block({ { 130, 165, 65 }, { 82, 165, 225 }, { 240, 165, 272 }, { 290, 165, 114 } });   // 6-10
   block({ { 423, 330, 247 }, { 265, 330, 296 }, { 314, 330, 456 }, { 472, 330, 406 } }); // 11-15
   return scene;
 }
@@ -597,14 +631,18 @@ void TestCornellBox()
   PENUMBRA_EXPECT_REL(evaluator.FormFactor(x, Vec3(0, 1, 0), 1, 0, ws), reference, 1e-12);
   // Under the short block (inside its footprint): nothing.
   PENUMBRA_EXPECT(evaluator.FormFactor(Vec3(200, 0, 150), Vec3(0, 1, 0), 1, 0, ws) == 0.0);
-  CompareMonteCarlo("Cornell floor by the tall block", scene, 0, 1, Vec3(278, 0, 279.5), Vec3(0, 1, 0));
+  CompareMonteCarlo(
+    "Cornell floor by the tall block", scene, 0, 1, Vec3(278, 0, 279.5), Vec3(0, 1, 0));
   CompareMonteCarlo("Cornell short block's penumbra", scene, 0, 1, Vec3(180, 0, 20), Vec3(0, 1, 0));
-  CompareMonteCarlo("Cornell short block's penumbra 2", scene, 0, 1, Vec3(20, 0, 140), Vec3(0, 1, 0));
+  CompareMonteCarlo(
+    "Cornell short block's penumbra 2", scene, 0, 1, Vec3(20, 0, 140), Vec3(0, 1, 0));
   CompareMonteCarlo("Cornell tall block's penumbra", scene, 0, 1, Vec3(260, 0, 300), Vec3(0, 1, 0));
-  CompareMonteCarlo("Cornell tall block's penumbra 2", scene, 0, 1, Vec3(300, 0, 460), Vec3(0, 1, 0));
+  CompareMonteCarlo(
+    "Cornell tall block's penumbra 2", scene, 0, 1, Vec3(300, 0, 460), Vec3(0, 1, 0));
   CompareMonteCarlo("Cornell short block's top", scene, 0, 6, Vec3(200, 165, 200), Vec3(0, 1, 0));
   CompareMonteCarlo("Cornell right wall", scene, 0, 4, Vec3(0, 200, 350), Vec3(1, 0, 0));
-  CompareMonteCarlo("Cornell tall block's side", scene, 0, 12, Vec3(289.5, 100, 376), penumbra::Normalized(Cross(Vec3(314 - 265, 0, 456 - 296), Vec3(0, 1, 0))));
+  CompareMonteCarlo("Cornell tall block's side", scene, 0, 12, Vec3(289.5, 100, 376),
+    penumbra::Normalized(Cross(Vec3(314 - 265, 0, 456 - 296), Vec3(0, 1, 0))));
 }
 
 void TestSymmetryAndBounds()
@@ -612,9 +650,11 @@ void TestSymmetryAndBounds()
   // A scene symmetric under y -> -y.
   Scene scene = LightAndFloor(2.0);
   scene.Surfaces.push_back(HorizontalRect(-0.3, 0.2, -0.25, 0.25, 1.0, 1.0));
-  scene.Surfaces.push_back(Polygon(
-    { { 0.1, -0.4, 1.5 }, { 0.4, -0.4, 1.2 }, { 0.4, 0.4, 1.2 }, { 0.1, 0.4, 1.5 } }, Vec3(0, 0, 1)));
-  scene.Surfaces.push_back(Polygon({ { -0.4, -0.1, 1.4 }, { -0.2, 0.0, 1.4 }, { -0.4, 0.1, 1.4 } }, Vec3(0, 0, 1)));
+  scene.Surfaces.push_back(
+    Polygon({ { 0.1, -0.4, 1.5 }, { 0.4, -0.4, 1.2 }, { 0.4, 0.4, 1.2 }, { 0.1, 0.4, 1.5 } },
+      Vec3(0, 0, 1)));
+  scene.Surfaces.push_back(
+    Polygon({ { -0.4, -0.1, 1.4 }, { -0.2, 0.0, 1.4 }, { -0.4, 0.1, 1.4 } }, Vec3(0, 0, 1)));
   penumbra::ExactEvaluator evaluator(scene);
   penumbra::VisibilityWorkspace ws;
   std::mt19937_64 rng(7);
@@ -646,9 +686,8 @@ void TestSymmetryAndBounds()
       const Vec3 b = penumbra::Normalized(Cross(a, Vec3(u(rng), u(rng), u(rng))));
       const Vec3 e = Cross(a, b);
       const double s1 = size(rng), s2 = size(rng);
-      random.Surfaces.push_back(Polygon({ c - b * s1 - e * s2, c + b * s1 - e * s2,
-                                          c + b * s1 + e * s2, c - b * s1 + e * s2 },
-        a));
+      random.Surfaces.push_back(Polygon(
+        { c - b * s1 - e * s2, c + b * s1 - e * s2, c + b * s1 + e * s2, c - b * s1 + e * s2 }, a));
     }
     penumbra::ExactEvaluator ev(random);
     std::vector<int> shaft, all;
@@ -663,7 +702,8 @@ void TestSymmetryAndBounds()
       const Vec3 x(coord(rng), coord(rng), 0.0);
       const Vec3 n(0, 0, 1);
       const double f = ev.FormFactor(x, n, 1, 0, ws, &region);
-      const double open = penumbra::PointPolygonFormFactorClipped(x, n, random.Surfaces[0].Vertices);
+      const double open =
+        penumbra::PointPolygonFormFactorClipped(x, n, random.Surfaces[0].Vertices);
       const double fs = ev.FormFactor(x, n, 1, 0, shaft, ws);
       const double fa = penumbra::VisibleFormFactor(ev.GetOccluders(), x, n, 0, 1, all, ws);
       worstPath = std::max({ worstPath, std::abs(f - fs), std::abs(f - fa) });
@@ -691,7 +731,8 @@ void TestSymmetryAndBounds()
     random.Surfaces.push_back(randomQuad(Vec3(0, 0, 0), 1.0));
     for (int k = 0; k < 15; ++k)
     {
-      random.Surfaces.push_back(randomQuad(Vec3(1.2 * u(rng), 1.2 * u(rng), 1.0 + 1.2 * u(rng)), 0.25));
+      random.Surfaces.push_back(
+        randomQuad(Vec3(1.2 * u(rng), 1.2 * u(rng), 1.0 + 1.2 * u(rng)), 0.25));
     }
     penumbra::ExactEvaluator ev(random);
     std::vector<int> shaft, all;
@@ -748,7 +789,8 @@ std::vector<Vec3> ClipConvexXY(std::vector<Vec3> subject, const std::vector<Vec3
   for (std::size_t e = 0; e < clipper.size() && !subject.empty(); ++e)
   {
     const Vec3 p = clipper[e], q = clipper[(e + 1) % clipper.size()];
-    auto side = [&](const Vec3& v) { return (q.X - p.X) * (v.Y - p.Y) - (q.Y - p.Y) * (v.X - p.X); };
+    auto side = [&](
+                  const Vec3& v) { return (q.X - p.X) * (v.Y - p.Y) - (q.Y - p.Y) * (v.X - p.X); };
     std::vector<Vec3> out;
     for (std::size_t i = 0; i < subject.size(); ++i)
     {
@@ -893,11 +935,11 @@ void TestDecomposition()
 {
   // Concave outlines (counter-clockwise seen from +z, then tilted in 3D).
   const std::vector<std::vector<double>> outlines = {
-    { 0, 0, 2, 0, 2, 1, 1, 1, 1, 2, 0, 2 },                              // L
-    { 0, 0, 3, 0, 3, 2, 2, 2, 2, 1, 1, 1, 1, 2, 0, 2 },                  // U
+    { 0, 0, 2, 0, 2, 1, 1, 1, 1, 2, 0, 2 },                                     // L
+    { 0, 0, 3, 0, 3, 2, 2, 2, 2, 1, 1, 1, 1, 2, 0, 2 },                         // U
     { 0, 0, 5, 0, 5, 3, 4, 3, 4, 1, 3, 1, 3, 3, 2, 3, 2, 1, 1, 1, 1, 3, 0, 3 }, // comb
-    { 0, -1, 0.3, -0.3, 1, 0, 0.3, 0.3, 0, 1, -0.3, 0.3, -1, 0, -0.3, -0.3 },  // star
-    { 0, 0, 1, 0, 2, 0, 2, 1, 0, 1 },                                    // collinear vertex
+    { 0, -1, 0.3, -0.3, 1, 0, 0.3, 0.3, 0, 1, -0.3, 0.3, -1, 0, -0.3, -0.3 },   // star
+    { 0, 0, 1, 0, 2, 0, 2, 1, 0, 1 },                                           // collinear vertex
   };
   const Vec3 a = penumbra::Normalized(Vec3(1, 0.2, 0.3));
   const Vec3 b = penumbra::Normalized(Cross(Vec3(0.1, 0.2, 1), a));
@@ -955,9 +997,11 @@ void TestDecomposition()
   // Queries with a degenerate shooter or non-finite input return 0.
   penumbra::VisibilityWorkspace ws;
   std::vector<int> all = { 0, 1, 2, 3, 4, 5, 6 };
-  PENUMBRA_EXPECT(penumbra::VisibleFormFactor(set, Vec3(0, 0, 5), Vec3(0, 0, -1), 5, -1, all, ws) == 0.0);
+  PENUMBRA_EXPECT(
+    penumbra::VisibleFormFactor(set, Vec3(0, 0, 5), Vec3(0, 0, -1), 5, -1, all, ws) == 0.0);
   const double nan = std::nan("");
-  PENUMBRA_EXPECT(penumbra::VisibleFormFactor(set, Vec3(nan, 0, 0), Vec3(0, 0, 1), 0, -1, all, ws) == 0.0);
+  PENUMBRA_EXPECT(
+    penumbra::VisibleFormFactor(set, Vec3(nan, 0, 0), Vec3(0, 0, 1), 0, -1, all, ws) == 0.0);
   // The concave L as a shooter, unoccluded (the other outlines are coplanar
   // with it): Lambert's formula over the whole outline; from behind, 0.
   const Vec3 front = Vec3(5, -3, 7) + c * 2.0 + a * 0.5 + b * 0.5;
@@ -971,12 +1015,13 @@ void TestNoAllocation()
 {
   Scene scene = LightAndFloor(2.0);
   AddBox(scene, Vec3(0.1, -0.2, 0.0), Vec3(0.5, 0.2, 0.6));
-  scene.Surfaces.push_back(Polygon(
-    { { -0.4, -0.2, 1.7 }, { 0.0, -0.2, 2.3 }, { 0.0, 0.3, 2.3 }, { -0.4, 0.3, 1.7 } }, Vec3(0, 0, -1)));
-  scene.Surfaces.push_back(Polygon({ { -0.4, -0.3, 1.0 }, { 0.4, -0.3, 1.2 }, { 0.4, 0.3, 1.2 },
-                                     { 0.2, 0.3, 1.15 }, { 0.2, -0.1, 1.15 }, { -0.2, -0.1, 1.05 },
-                                     { -0.2, 0.3, 1.05 }, { -0.4, 0.3, 1.0 } },
-    Vec3(0, 0, 1)));
+  scene.Surfaces.push_back(
+    Polygon({ { -0.4, -0.2, 1.7 }, { 0.0, -0.2, 2.3 }, { 0.0, 0.3, 2.3 }, { -0.4, 0.3, 1.7 } },
+      Vec3(0, 0, -1)));
+  scene.Surfaces.push_back(
+    Polygon({ { -0.4, -0.3, 1.0 }, { 0.4, -0.3, 1.2 }, { 0.4, 0.3, 1.2 }, { 0.2, 0.3, 1.15 },
+              { 0.2, -0.1, 1.15 }, { -0.2, -0.1, 1.05 }, { -0.2, 0.3, 1.05 }, { -0.4, 0.3, 1.0 } },
+      Vec3(0, 0, 1)));
   penumbra::ExactEvaluator evaluator(scene);
   penumbra::VisibilityWorkspace ws;
   std::vector<int> shaft;
@@ -1010,13 +1055,14 @@ void TestCulling()
 {
   // Query A keeps the blockers and drops what is outside the shaft.
   Scene scene = LightAndFloor(2.0);
-  scene.Surfaces.push_back(HorizontalRect(-0.2, 0.2, -0.2, 0.2, 1.0, 1.0));   // 2: inside
-  scene.Surfaces.push_back(HorizontalRect(-0.2, 0.2, -0.2, 0.2, 3.0, 1.0));   // 3: above the light
-  scene.Surfaces.push_back(HorizontalRect(-0.2, 0.2, -0.2, 0.2, -1.0, 1.0));  // 4: below the floor
-  scene.Surfaces.push_back(HorizontalRect(5.0, 6.0, 5.0, 6.0, 1.0, 1.0));     // 5: far away
-  scene.Surfaces.push_back(HorizontalRect(3.1, 3.5, -0.2, 0.2, 1.9, 1.0));    // 6: outside the hull
-  scene.Surfaces.push_back(HorizontalRect(2.5, 2.9, -0.2, 0.2, 0.1, 1.0));    // 7: inside the hull
-  scene.Surfaces.push_back(HorizontalRect(-0.5, 0.5, -0.5, 0.5, 2.0, 1.0));   // 8: coplanar with the light
+  scene.Surfaces.push_back(HorizontalRect(-0.2, 0.2, -0.2, 0.2, 1.0, 1.0));  // 2: inside
+  scene.Surfaces.push_back(HorizontalRect(-0.2, 0.2, -0.2, 0.2, 3.0, 1.0));  // 3: above the light
+  scene.Surfaces.push_back(HorizontalRect(-0.2, 0.2, -0.2, 0.2, -1.0, 1.0)); // 4: below the floor
+  scene.Surfaces.push_back(HorizontalRect(5.0, 6.0, 5.0, 6.0, 1.0, 1.0));    // 5: far away
+  scene.Surfaces.push_back(HorizontalRect(3.1, 3.5, -0.2, 0.2, 1.9, 1.0));   // 6: outside the hull
+  scene.Surfaces.push_back(HorizontalRect(2.5, 2.9, -0.2, 0.2, 0.1, 1.0));   // 7: inside the hull
+  scene.Surfaces.push_back(
+    HorizontalRect(-0.5, 0.5, -0.5, 0.5, 2.0, 1.0)); // 8: coplanar with the light
   penumbra::OccluderSet set(scene);
   std::vector<int> shaft;
   PENUMBRA_EXPECT(set.ShaftCandidates(0, 1, shaft));

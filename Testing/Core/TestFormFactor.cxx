@@ -52,7 +52,8 @@ double ParallelPlates(double a, double b, double c)
   const double X = a / c, Y = b / c;
   const double x2 = 1.0 + X * X, y2 = 1.0 + Y * Y;
   return 2.0 / (Pi * X * Y) *
-    (std::log(std::sqrt(x2 * y2 / (x2 + Y * Y))) + X * std::sqrt(y2) * std::atan(X / std::sqrt(y2)) +
+    (std::log(std::sqrt(x2 * y2 / (x2 + Y * Y))) +
+      X * std::sqrt(y2) * std::atan(X / std::sqrt(y2)) +
       Y * std::sqrt(x2) * std::atan(Y / std::sqrt(x2)) - X * std::atan(X) - Y * std::atan(Y));
 }
 
@@ -300,8 +301,7 @@ void TestClipping()
 
   // ClipPolygonToHalfSpace itself: vertices of the clipped rectangle.
   std::vector<Vec3> out;
-  penumbra::ClipPolygonToHalfSpace(
-    std::vector<Vec3>(rect, rect + 4), Vec3(0, 0, 1), 0.0, out);
+  penumbra::ClipPolygonToHalfSpace(std::vector<Vec3>(rect, rect + 4), Vec3(0, 0, 1), 0.0, out);
   PENUMBRA_EXPECT(out.size() == 4);
   double zmin = 1e300, area2 = 0.0;
   for (std::size_t i = 0; i < out.size(); ++i)
@@ -395,7 +395,8 @@ void TestAreaToArea()
       closed, integral, std::abs(integral - closed) / closed);
   }
   // Reciprocity of the closed forms: A1 F12 = A2 F21.
-  PENUMBRA_EXPECT_REL(1.0 * PerpendicularPlates(2, 1, 1), 2.0 * PerpendicularPlates(1, 2, 1), 1e-13);
+  PENUMBRA_EXPECT_REL(
+    1.0 * PerpendicularPlates(2, 1, 1), 2.0 * PerpendicularPlates(1, 2, 1), 1e-13);
 }
 
 } // namespace

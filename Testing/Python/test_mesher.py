@@ -1,0 +1,106 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""vtkDiscontinuityMesher: output contract, areas, contacts, settings, errors."""
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+import penumbra
+
+
+def mesh(scene_name, **settings):
+    source = penumbra.vtkPenumbraSceneSource()
+    source.SetSceneName(scene_name)
+    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher.SetInputConnection(source.GetOutputPort())
+    for name, value in settings.items():
+        getattr(mesher, "Set" + name)(value)
+    return penumbra.run_filter(mesher), penumbra.run_filter(source)
+
+
+def polygon_area(points):
+    normal = np.zeros(3)
+    for a, b in zip(points, np.roll(points, -1, axis=0)):
+        normal += np.cross(a, b)
+    return 0.5 * np.linalg.norm(normal)
+
+
+def cell_arrays(data):
+    return {name: vtk_to_numpy(data.GetCellData().GetArray(name))
+            for name in ("SurfaceId", "DiscontinuityOrder", "SourceId")}
+
+
+@pytest.mark.parametrize("name", ["cornell", "seven", "blind"])
+def test_triangles_cover_each_receiver(name):
+    out, scene = mesh(name)
+    arrays = cell_arrays(out)
+    lines = out.GetNumberOfLines()
+    assert out.GetNumberOfPolys() > 0 and lines > 0
+    assert (arrays["DiscontinuityOrder"][lines:] == -2).all()
+    assert set(np.unique(arrays["DiscontinuityOrder"][:lines])) <= {-1, 0, 1, 2}
+    points = vtk_to_numpy(out.GetPoints().GetData())
+    polys = vtk_to_numpy(out.GetPolys().GetData()).reshape(-1, 4)[:, 1:]
+    tri = points[polys]
+    areas = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    assert areas.min() > 0
+    removed = 0.0
+    for i in range(scene.GetNumberOfCells()):
+        cell = scene.GetCell(i)
+        expected = polygon_area(np.array([cell.GetPoints().GetPoint(k)
+                                          for k in range(cell.GetNumberOfPoints())]))
+        meshed = areas[arrays["SurfaceId"][lines:] == i].sum()
+        assert meshed <= expected * (1 + 1e-9)
+        removed += expected - meshed
+    # Only the Cornell floor loses area: the footprints of the two blocks.
+    if name == "cornell":
+        short_top = [(130, 65), (82, 225), (240, 272), (290, 114)]
+        tall_top = [(423, 247), (265, 296), (314, 456), (472, 406)]
+        footprint = sum(polygon_area(np.array([(x / 1000, 0, z / 1000) for x, z in top]))
+                        for top in (short_top, tall_top))
+        assert removed == pytest.approx(footprint, rel=1e-9)
+        assert (arrays["DiscontinuityOrder"][:lines] == 0).sum() >= 8
+    else:
+        assert removed == pytest.approx(0, abs=1e-12)
+    field = out.GetFieldData()
+    assert field.GetArray("ConstraintFailures").GetValue(0) == 0
+    assert field.GetArray("SegmentsKept").GetValue(0) <= field.GetArray("SegmentsGenerated").GetValue(0)
+
+
+def test_shadow_lines_name_their_source():
+    out, scene = mesh("cornell")
+    arrays = cell_arrays(out)
+    lines = out.GetNumberOfLines()
+    emission = vtk_to_numpy(scene.GetCellData().GetArray("Emission"))
+    light = int(np.nonzero(emission.max(axis=1))[0][0])
+    orders, sources = arrays["DiscontinuityOrder"][:lines], arrays["SourceId"][:lines]
+    assert (sources[orders >= 1] == light).all()
+    assert (sources[orders <= 0] == -1).all()
+
+
+def test_minimum_angle_refines_and_jump_threshold_drops():
+    coarse, _ = mesh("seven")
+    fine, _ = mesh("seven", MinimumAngle=20.0)
+    assert fine.GetNumberOfPolys() > coarse.GetNumberOfPolys()
+    thresholded, _ = mesh("seven", JumpThreshold=0.2)
+    field = thresholded.GetFieldData()
+    assert field.GetArray("SegmentsKept").GetValue(0) < field.GetArray("SegmentsGenerated").GetValue(0)
+
+
+def test_settings_clamp_and_print():
+    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher.SetMinimumAngle(45)
+    assert mesher.GetMinimumAngle() == 20.6
+    mesher.SetJumpThreshold(-1)
+    assert mesher.GetJumpThreshold() == 0
+    text = str(mesher)
+    for setting in ("ShooterIds", "ShooterPowerFraction", "MinimumAngle", "OccluderOccluderEvents",
+                    "InteriorEvents", "PlaneEvents", "Contacts", "JumpThreshold", "ContactTolerance"):
+        assert setting + ":" in text
+
+
+def test_bad_shooter_id_is_an_error():
+    source = penumbra.vtkPenumbraSceneSource()
+    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher.SetInputConnection(source.GetOutputPort())
+    mesher.AddShooterId(99)
+    with pytest.raises(penumbra.PenumbraError, match="ShooterIds: 99"):
+        penumbra.run_filter(mesher)
