@@ -33,10 +33,12 @@ namespace penumbra
 namespace cgal
 {
 
-/// Per-vertex data: index of the known 3D point it stands for, or -1.
+/// Per-vertex data: index of the known 3D point it stands for, or -1, and
+/// the refinable triangulation's vertex id.
 struct VertexInfo
 {
   int Known = -1;
+  int Id = -1; ///< vertex id in a RefinableTriangulation, or -1
 };
 
 /// Per-face data used by the receiver triangulation.

@@ -35,7 +35,7 @@ using PieceBuffer = VisibilityWorkspace::PieceBuffer;
 
 // Grow a scratch vector (never shrinks, so the query stays allocation-free
 // once the buffers are large enough). Invalidates pointers into it.
-template <typename T>
+template<typename T>
 inline T* Reserve(std::vector<T>& v, std::size_t n)
 {
   if (v.size() < n)
@@ -185,9 +185,10 @@ bool Separated(const double* pts, int count, const double* box, const double* li
 
 // Subtract the shadow {p : a*u + b*v + c >= 0 for every line} from the
 // visible pieces; `shadow` is a convex polygon containing the part of that
-// region in the visible hull, and shadowBox its bounds. Pieces the shadow does not meet stay where they are;
-// a piece it meets is replaced by its parts outside the shadow (one per
-// line that cuts it). Returns the number of pieces left.
+// region in the visible hull, and shadowBox its bounds. Pieces the shadow
+// does not meet stay where they are; a piece it meets is replaced by its
+// parts outside the shadow (one per line that cuts it). Returns the number
+// of pieces left.
 int SubtractShadow(VisibilityWorkspace& ws, const double* lines, int numberOfLines,
   const double* shadow, int shadowCount, const double shadowBox[4], double minArea, double eps)
 {
@@ -467,7 +468,8 @@ int GeneralShadow(const Vec3* local, int count, const PreparedPolygon& o, double
   // Leave the clipped shadow in ws.Shadow.
   if (shadowBuffer != &ws.Shadow)
   {
-    std::copy(shadow, shadow + 2 * shadowCount, Reserve(ws.Shadow, static_cast<std::size_t>(2 * shadowCount)));
+    double* target = Reserve(ws.Shadow, static_cast<std::size_t>(2 * shadowCount));
+    std::copy(shadow, shadow + 2 * shadowCount, target);
   }
   return shadowCount;
 }
@@ -563,9 +565,9 @@ int CastShadows(const OccluderSet& set, int id, const QueryFrame& q, VisibilityW
   return left;
 }
 
-double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shooterId,
-  int receiverId, const int* candidates, int numberOfCandidates, bool traverse,
-  VisibilityWorkspace& ws, VisibleRegion* region)
+double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shooterId, int receiverId,
+  const int* candidates, int numberOfCandidates, bool traverse, VisibilityWorkspace& ws,
+  VisibleRegion* region)
 {
   if (region)
   {
@@ -628,8 +630,8 @@ double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shoote
     {
       for (int k = 0; k < pieces.Count; ++k)
       {
-        BoundsAndArea(pieces.Points.data() + pieces.Starts[k], pieces.Sizes[k],
-          pieces.Boxes.data() + 4 * k);
+        BoundsAndArea(
+          pieces.Points.data() + pieces.Starts[k], pieces.Sizes[k], pieces.Boxes.data() + 4 * k);
       }
       CompactPieces(pieces, pieces.Count); // computes the union of the boxes
       if (traverse)
@@ -654,7 +656,8 @@ double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shoote
           const Vec3 d = o.Centroid - x;
           ws.Order[i] = { -o.Area / Dot(d, d), ws.Candidates[i] };
         }
-        std::sort(ws.Order.begin(), ws.Order.begin() + static_cast<std::ptrdiff_t>(numberOfOccluders));
+        const auto last = ws.Order.begin() + static_cast<std::ptrdiff_t>(numberOfOccluders);
+        std::sort(ws.Order.begin(), last);
         for (std::size_t i = 0; i < numberOfOccluders; ++i)
         {
           ws.Candidates[i] = ws.Order[i].second;
@@ -722,9 +725,9 @@ double VisibleRegion::GetArea() const
   return area;
 }
 
-double VisibleFormFactor(const OccluderSet& occluders, const Vec3& x, const Vec3& n,
-  int shooterId, int receiverId, const int* candidates, int numberOfCandidates,
-  VisibilityWorkspace& workspace, VisibleRegion* region)
+double VisibleFormFactor(const OccluderSet& occluders, const Vec3& x, const Vec3& n, int shooterId,
+  int receiverId, const int* candidates, int numberOfCandidates, VisibilityWorkspace& workspace,
+  VisibleRegion* region)
 {
   return Evaluate(occluders, x, n, shooterId, receiverId, candidates, numberOfCandidates, false,
     workspace, region);
@@ -755,8 +758,8 @@ double ExactEvaluator::FormFactor(const Vec3& x, const Vec3& n, int receiverId, 
     static_cast<int>(shaftCandidates.size()), false, workspace, region);
 }
 
-RGB ExactEvaluator::ContributedRadiance(const Vec3& x, const Vec3& n, int receiverId,
-  int shooterId, VisibilityWorkspace& workspace) const
+RGB ExactEvaluator::ContributedRadiance(
+  const Vec3& x, const Vec3& n, int receiverId, int shooterId, VisibilityWorkspace& workspace) const
 {
   if (receiverId < 0 || shooterId < 0 || shooterId >= this->Occluders.GetNumberOfPolygons() ||
     receiverId >= this->Occluders.GetNumberOfPolygons())

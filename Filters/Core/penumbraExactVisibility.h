@@ -67,25 +67,25 @@ struct VisibilityWorkspace
   {
     std::vector<double> Points; ///< (u, v) pairs; the first Used doubles are in use
     int Used = 0;
-    std::vector<int> Starts;    ///< first double of each piece in Points
-    std::vector<int> Sizes;     ///< vertex count of each piece (0 = removed)
-    std::vector<double> Boxes;  ///< umin, umax, vmin, vmax of each piece
-    int Count = 0;              ///< number of pieces
+    std::vector<int> Starts;           ///< first double of each piece in Points
+    std::vector<int> Sizes;            ///< vertex count of each piece (0 = removed)
+    std::vector<double> Boxes;         ///< umin, umax, vmin, vmax of each piece
+    int Count = 0;                     ///< number of pieces
     double Bounds[4] = { 0, 0, 0, 0 }; ///< union of the boxes
   };
-  PieceBuffer Pieces;              ///< the visible region
-  std::vector<double> Remainder;   ///< the part of a piece still inside the shadow
-  std::vector<double> Split;       ///< scratch for one split
-  std::vector<double> Distances;   ///< signed distances of the remainder to a line
-  std::vector<double> Lines;       ///< shadow half-planes, (a, b, c) triples
-  std::vector<double> Shadow;      ///< the current shadow polygon
-  std::vector<double> ShadowSwap;  ///< scratch for clipping it
-  std::vector<double> Hull;        ///< the shooter's hull clipped to x's front
-  std::vector<Vec3> Local;         ///< occluder piece vertices relative to x
-  std::vector<int> Candidates;     ///< pyramid candidates
+  PieceBuffer Pieces;                        ///< the visible region
+  std::vector<double> Remainder;             ///< the part of a piece still inside the shadow
+  std::vector<double> Split;                 ///< scratch for one split
+  std::vector<double> Distances;             ///< signed distances of the remainder to a line
+  std::vector<double> Lines;                 ///< shadow half-planes, (a, b, c) triples
+  std::vector<double> Shadow;                ///< the current shadow polygon
+  std::vector<double> ShadowSwap;            ///< scratch for clipping it
+  std::vector<double> Hull;                  ///< the shooter's hull clipped to x's front
+  std::vector<Vec3> Local;                   ///< occluder piece vertices relative to x
+  std::vector<int> Candidates;               ///< pyramid candidates
   std::vector<std::pair<double, int>> Order; ///< candidates sorted by solid angle
-  CullingVolume Frustum;           ///< pyramid of the current query
-  long long ShadowCount = 0;       ///< statistics: shadows subtracted so far
+  CullingVolume Frustum;                     ///< pyramid of the current query
+  long long ShadowCount = 0;                 ///< statistics: shadows subtracted so far
 };
 
 /**
@@ -128,8 +128,8 @@ PENUMBRACORE_EXPORT double VisibleFormFactor(const OccluderSet& occluders, const
 
 /// Convenience overload taking a vector of candidates.
 inline double VisibleFormFactor(const OccluderSet& occluders, const Vec3& x, const Vec3& n,
-  int shooterId, int receiverId, const std::vector<int>& candidates,
-  VisibilityWorkspace& workspace, VisibleRegion* region = nullptr)
+  int shooterId, int receiverId, const std::vector<int>& candidates, VisibilityWorkspace& workspace,
+  VisibleRegion* region = nullptr)
 {
   return VisibleFormFactor(occluders, x, n, shooterId, receiverId, candidates.data(),
     static_cast<int>(candidates.size()), workspace, region);

@@ -326,8 +326,8 @@ void ExpandBox(Vec3& lo, Vec3& hi, const Vec3& p)
   hi = Vec3(std::max(hi.X, p.X), std::max(hi.Y, p.Y), std::max(hi.Z, p.Z));
 }
 
-const Vec3 EmptyLo(
-  std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
+constexpr double Huge = std::numeric_limits<double>::max();
+const Vec3 EmptyLo(Huge, Huge, Huge);
 const Vec3 EmptyHi = -EmptyLo;
 
 } // namespace
@@ -448,8 +448,7 @@ void OccluderSet::Build(const Scene& scene)
       {
         // World coordinates rebuilt from the frame so that the 2D and 3D
         // copies describe exactly the same planar polygon.
-        this->PieceVertices.push_back(
-          poly.Centroid + poly.AxisU * p2[i].X + poly.AxisV * p2[i].Y);
+        this->PieceVertices.push_back(poly.Centroid + poly.AxisU * p2[i].X + poly.AxisV * p2[i].Y);
         this->PiecePoints2D.push_back(p2[i].X);
         this->PiecePoints2D.push_back(p2[i].Y);
       }
@@ -720,8 +719,8 @@ bool OccluderSet::ShaftCandidates(int shooterId, int receiverId, std::vector<int
   return true;
 }
 
-bool OccluderSet::BuildFrustum(const Vec3& x, const Vec3& n, int shooterId,
-  CullingVolume& frustum, std::vector<double>* clippedHull) const
+bool OccluderSet::BuildFrustum(const Vec3& x, const Vec3& n, int shooterId, CullingVolume& frustum,
+  std::vector<double>* clippedHull) const
 {
   const PreparedPolygon& s = this->Polygons[shooterId];
   if (!s.Valid)
@@ -759,8 +758,8 @@ bool OccluderSet::BuildFrustum(const Vec3& x, const Vec3& n, int shooterId,
   }
   // A convex polygon clipped by one half-plane has at most one more vertex
   // (the buffers allow twice as many, in case rounding bends the hull).
-  const int m = ClipPolygon2D(
-    this->HullPoints2D.data() + 2 * s.FirstHullPoint, nh, nu, nv, c, clipped);
+  const int m =
+    ClipPolygon2D(this->HullPoints2D.data() + 2 * s.FirstHullPoint, nh, nu, nv, c, clipped);
   if (clippedHull)
   {
     clippedHull->resize(static_cast<std::size_t>(2 * m));

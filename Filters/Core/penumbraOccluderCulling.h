@@ -151,8 +151,9 @@ public:
   /**
    * Query B, first step. Build the pyramid from x to the part of the shooter
    * in front of x's tangent plane (unit normal n, or the zero vector for no
-   * tangent plane), cut by the slab between x and the shooter's plane. Returns false when nothing of the shooter's front
-   * is visible from x's front half-space (the form factor is then 0).
+   * tangent plane), cut by the slab between x and the shooter's plane.
+   * Returns false when nothing of the shooter's front is visible from x's
+   * front half-space (the form factor is then 0).
    * `frustum` is reused: its vectors keep their capacity. When
    * `clippedHull` is given it receives the clipped convex hull of the shooter,
    * counter-clockwise (u, v) pairs in the shooter's frame.

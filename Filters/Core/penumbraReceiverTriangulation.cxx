@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The only CGAL translation unit of the discontinuity mesher: one receiver's
-// constrained Delaunay triangulation (see penumbraReceiverTriangulation.h).
+// The only CGAL translation unit of the core: one receiver's constrained
+// Delaunay triangulation for the discontinuity mesher, and its refinement by
+// point insertion for the adaptive sampler (see penumbraReceiverTriangulation.h).
 #include "penumbraReceiverTriangulation.h"
 
 #include "penumbraCGAL.h"
 
+#include <CGAL/Spatial_sort_traits_adapter_2.h>
+#include <CGAL/property_map.h>
 #include <CGAL/spatial_sort.h>
 
 #include <algorithm>
@@ -440,5 +443,468 @@ TriangulationOutput TriangulateReceiver(const TriangulationInput& input)
   return out;
 }
 
+
+//------------------------------------------------------------------------------
+// RefinableTriangulation
+//------------------------------------------------------------------------------
+struct RefinableTriangulation::Internal
+{
+  using CDT = cgal::RefineCDT;
+  using Face = CDT::Face_handle;
+  using VertexHandle = CDT::Vertex_handle;
+  using Point = CDT::Point;
+
+  CDT Cdt;
+  std::vector<VertexHandle> Vertices;           // by id
+  std::map<CDT::Constraint_id, int> ConstraintOf; // input segment of each constraint
+  std::vector<RefinableSegment> Segments;       // input labels
+  std::size_t Irregularities = 0;
+
+  int AddId(VertexHandle v)
+  {
+    v->info().Id = static_cast<int>(this->Vertices.size());
+    this->Vertices.push_back(v);
+    return v->info().Id;
+  }
+
+  // Label of the constrained edge (f, i): lowest order of the input segments
+  // through it (-1 lowest), then lowest source id.
+  void EdgeLabel(Face f, int i, int& order, int& source) const
+  {
+    const VertexHandle va = f->vertex(Ccw(i)), vb = f->vertex(Cw(i));
+    int rank = 1 << 30;
+    order = 2;
+    source = -1;
+    for (auto ctx : this->Cdt.contexts(va, vb))
+    {
+      auto found = this->ConstraintOf.find(ctx.id());
+      if (found == this->ConstraintOf.end())
+      {
+        continue;
+      }
+      const RefinableSegment& s = this->Segments[found->second];
+      const int r = s.Order == -1 ? 0 : s.Order + 1;
+      if (r < rank || (r == rank && s.SourceId < source))
+      {
+        rank = r;
+        order = s.Order;
+        source = s.SourceId;
+      }
+    }
+  }
+
+  // Mark the faces incident to v kept or not: all `kept` after a point
+  // inserted in a face or an unconstrained edge; after splitting a
+  // constrained edge a-b, each face takes the flag of the old face on its
+  // side of the line (exact orientation of its vertices off the line).
+  void MarkAround(VertexHandle v, bool kept)
+  {
+    auto fc = this->Cdt.incident_faces(v), done = fc;
+    do
+    {
+      fc->info().Kept = kept && !this->Cdt.is_infinite(fc);
+    } while (++fc != done);
+  }
+  void MarkAroundSplit(VertexHandle v, const Point& a, const Point& b, bool keptLeft,
+    bool keptRight)
+  {
+    auto fc = this->Cdt.incident_faces(v), done = fc;
+    do
+    {
+      if (this->Cdt.is_infinite(fc))
+      {
+        fc->info().Kept = false;
+        continue;
+      }
+      int left = 0, right = 0;
+      for (int k = 0; k < 3; ++k)
+      {
+        if (fc->vertex(k) == v)
+        {
+          continue;
+        }
+        const CGAL::Orientation o = CGAL::orientation(a, b, fc->vertex(k)->point());
+        left += o == CGAL::LEFT_TURN;
+        right += o == CGAL::RIGHT_TURN;
+      }
+      bool onLeft = left > right;
+      if (left == right)
+      {
+        // Not expected (a face cannot straddle the constrained line at v):
+        // decide by the centroid.
+        const Point c = CGAL::centroid(fc->vertex(0)->point(), fc->vertex(1)->point(),
+          fc->vertex(2)->point());
+        onLeft = CGAL::orientation(a, b, c) == CGAL::LEFT_TURN;
+      }
+      fc->info().Kept = onLeft ? keptLeft : keptRight;
+    } while (++fc != done);
+  }
+};
+
+RefinableTriangulation::RefinableTriangulation(const std::vector<std::array<double, 2>>& vertices,
+  const std::vector<RefinableSegment>& segments, const std::vector<std::array<double, 2>>& keptSeeds)
+  : Impl(new Internal)
+{
+  using Point = Internal::Point;
+  using VertexHandle = Internal::VertexHandle;
+  using Face = Internal::Face;
+  Internal& in = *this->Impl;
+  in.Segments = segments;
+  const int n = static_cast<int>(vertices.size());
+
+  // A far bounding square: receiver edges are then never on the convex hull,
+  // so a point rounded slightly outside an outline edge can still split it.
+  double lo[2] = { 0.0, 0.0 }, hi[2] = { 0.0, 0.0 };
+  for (int i = 0; i < n; ++i)
+  {
+    for (int c = 0; c < 2; ++c)
+    {
+      lo[c] = i == 0 ? vertices[i][c] : std::min(lo[c], vertices[i][c]);
+      hi[c] = i == 0 ? vertices[i][c] : std::max(hi[c], vertices[i][c]);
+    }
+  }
+  const double size = std::max({ hi[0] - lo[0], hi[1] - lo[1], 1e-300 });
+  const double cx = 0.5 * (lo[0] + hi[0]), cy = 0.5 * (lo[1] + hi[1]);
+  for (int k = 0; k < 4; ++k)
+  {
+    const double sx = (k == 0 || k == 3) ? -4.0 : 4.0, sy = k < 2 ? -4.0 : 4.0;
+    in.Cdt.insert(Point(cx + sx * size, cy + sy * size))->info().Id = -2;
+  }
+
+  // Vertices in spatial (Hilbert) order, each located from the previous one.
+  std::vector<Point> points;
+  points.reserve(n);
+  for (const auto& v : vertices)
+  {
+    points.emplace_back(v[0], v[1]);
+  }
+  std::vector<std::size_t> order(n);
+  for (int i = 0; i < n; ++i)
+  {
+    order[i] = static_cast<std::size_t>(i);
+  }
+  using SortTraits = CGAL::Spatial_sort_traits_adapter_2<cgal::RefineKernel,
+    CGAL::Pointer_property_map<Point>::type>;
+  CGAL::spatial_sort(order.begin(), order.end(), SortTraits(CGAL::make_property_map(points)));
+  in.Vertices.assign(n, VertexHandle());
+  VertexHandle hint;
+  for (std::size_t i : order)
+  {
+    hint = in.Cdt.insert(points[i], hint == VertexHandle() ? Face() : hint->face());
+    if (hint->info().Id >= 0 || hint->info().Id == -2)
+    {
+      ++in.Irregularities; // coincides with another vertex
+    }
+    else
+    {
+      hint->info().Id = static_cast<int>(i);
+    }
+    in.Vertices[i] = hint;
+  }
+  for (std::size_t k = 0; k < segments.size(); ++k)
+  {
+    const RefinableSegment& s = segments[k];
+    if (s.A < 0 || s.A >= n || s.B < 0 || s.B >= n || in.Vertices[s.A] == in.Vertices[s.B])
+    {
+      ++in.Irregularities;
+      continue;
+    }
+    try
+    {
+      in.ConstraintOf.emplace(in.Cdt.insert_constraint(in.Vertices[s.A], in.Vertices[s.B]),
+        static_cast<int>(k));
+    }
+    catch (const std::exception&)
+    {
+      ++in.Irregularities;
+    }
+  }
+  // Vertices created where constraints cross (none for a planar input).
+  for (auto v = in.Cdt.finite_vertices_begin(); v != in.Cdt.finite_vertices_end(); ++v)
+  {
+    if (v->info().Id == -1)
+    {
+      in.AddId(v);
+      ++in.Irregularities;
+    }
+  }
+
+  // Kept cells: flood fill across unconstrained edges from the faces holding
+  // the kept triangles' centroids.
+  for (Face f : in.Cdt.all_face_handles())
+  {
+    f->info().Kept = false;
+  }
+  std::queue<Face> queue;
+  Face previous;
+  for (const auto& seed : keptSeeds)
+  {
+    Internal::CDT::Locate_type lt;
+    int li = 0;
+    Face f = in.Cdt.locate(Point(seed[0], seed[1]), lt, li, previous);
+    previous = f;
+    if (lt != Internal::CDT::FACE || in.Cdt.is_infinite(f) || f->info().Kept)
+    {
+      continue;
+    }
+    f->info().Kept = true;
+    queue.push(f);
+  }
+  while (!queue.empty())
+  {
+    Face f = queue.front();
+    queue.pop();
+    for (int i = 0; i < 3; ++i)
+    {
+      Face g = f->neighbor(i);
+      if (f->is_constrained(i) || g->info().Kept || in.Cdt.is_infinite(g))
+      {
+        continue;
+      }
+      g->info().Kept = true;
+      queue.push(g);
+    }
+  }
+}
+
+RefinableTriangulation::~RefinableTriangulation() = default;
+
+int RefinableTriangulation::GetNumberOfVertices() const
+{
+  return static_cast<int>(this->Impl->Vertices.size());
+}
+
+std::array<double, 2> RefinableTriangulation::GetVertex(int id) const
+{
+  const auto& p = this->Impl->Vertices[id]->point();
+  return { p.x(), p.y() };
+}
+
+std::size_t RefinableTriangulation::GetIrregularities() const
+{
+  return this->Impl->Irregularities;
+}
+
+int RefinableTriangulation::InsertInFace(double u, double v, int hintVertex)
+{
+  Internal& in = *this->Impl;
+  using CDT = Internal::CDT;
+  const Internal::Point p(u, v);
+  CDT::Locate_type lt;
+  int li = 0;
+  const Internal::Face start = hintVertex >= 0 && hintVertex < static_cast<int>(in.Vertices.size())
+    ? in.Vertices[hintVertex]->face()
+    : Internal::Face();
+  Internal::Face f = in.Cdt.locate(p, lt, li, start);
+  if (in.Cdt.is_infinite(f) || !f->info().Kept ||
+    !(lt == CDT::FACE || (lt == CDT::EDGE && !f->is_constrained(li))))
+  {
+    return -1;
+  }
+  Internal::VertexHandle vh = in.Cdt.insert(p, lt, f, li);
+  in.MarkAround(vh, true);
+  return in.AddId(vh);
+}
+
+int RefinableTriangulation::InsertOnEdge(int a, int b, double u, double v)
+{
+  Internal& in = *this->Impl;
+  using CDT = Internal::CDT;
+  const int n = static_cast<int>(in.Vertices.size());
+  if (a < 0 || a >= n || b < 0 || b >= n)
+  {
+    return -1;
+  }
+  Internal::Face f;
+  int i = 0;
+  if (!in.Cdt.is_edge(in.Vertices[a], in.Vertices[b], f, i))
+  {
+    return -1;
+  }
+  const Internal::Point m(u, v);
+  // Orient the edge as in f (f on its left): pa = vertex ccw(i), pb = cw(i).
+  const Internal::Point pa = f->vertex(Ccw(i))->point(), pb = f->vertex(Cw(i))->point();
+  const Internal::Face g = f->neighbor(i);
+  if (in.Cdt.is_infinite(f) || in.Cdt.is_infinite(g))
+  {
+    return -1;
+  }
+  // m strictly between the end points, and the four new triangles keep the
+  // orientation of the two old ones (exact predicates on the rounded m).
+  const double du = pb.x() - pa.x(), dv = pb.y() - pa.y();
+  const double t = ((u - pa.x()) * du + (v - pa.y()) * dv) / (du * du + dv * dv);
+  if (!(t > 0.0 && t < 1.0) || m == pa || m == pb)
+  {
+    return -1;
+  }
+  const Internal::Point c = f->vertex(i)->point(), d = g->vertex(g->index(f))->point();
+  if (CGAL::orientation(pa, m, c) != CGAL::LEFT_TURN ||
+    CGAL::orientation(m, pb, c) != CGAL::LEFT_TURN ||
+    CGAL::orientation(pa, m, d) != CGAL::RIGHT_TURN ||
+    CGAL::orientation(m, pb, d) != CGAL::RIGHT_TURN)
+  {
+    return -1;
+  }
+  const bool constrained = f->is_constrained(i);
+  const bool keptLeft = f->info().Kept, keptRight = g->info().Kept;
+  if (!keptLeft && !keptRight)
+  {
+    return -1;
+  }
+  Internal::VertexHandle vh = in.Cdt.insert(m, CDT::EDGE, f, i);
+  if (constrained)
+  {
+    in.MarkAroundSplit(vh, pa, pb, keptLeft, keptRight);
+  }
+  else
+  {
+    in.MarkAround(vh, keptLeft || keptRight);
+  }
+  return in.AddId(vh);
+}
+
+void RefinableTriangulation::Extract(RefinableSnapshot& out)
+{
+  Internal& in = *this->Impl;
+  using Face = Internal::Face;
+  using VertexHandle = Internal::VertexHandle;
+  auto& cdt = in.Cdt;
+  out = RefinableSnapshot();
+  out.Vertices.resize(in.Vertices.size());
+  for (std::size_t k = 0; k < in.Vertices.size(); ++k)
+  {
+    const auto& p = in.Vertices[k]->point();
+    out.Vertices[k] = { p.x(), p.y() };
+  }
+
+  // Labels of constrained edges (Label[i] = index into orders/sources).
+  std::vector<int> orders, sources;
+  for (Face f : cdt.all_face_handles())
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      f->info().Label[i] = -1;
+      f->info().Point[i] = -1;
+    }
+    f->info().State = -1;
+  }
+  for (auto e = cdt.finite_edges_begin(); e != cdt.finite_edges_end(); ++e)
+  {
+    Face f = e->first;
+    const int i = e->second;
+    if (!f->is_constrained(i))
+    {
+      continue;
+    }
+    Face g = f->neighbor(i);
+    if (!f->info().Kept && !g->info().Kept)
+    {
+      continue;
+    }
+    int order = 2, source = -1;
+    in.EdgeLabel(f, i, order, source);
+    const int index = static_cast<int>(orders.size());
+    orders.push_back(order);
+    sources.push_back(source);
+    f->info().Label[i] = index;
+    g->info().Label[g->index(f)] = index;
+  }
+  auto isCut = [&](Face f, int edge) {
+    const int label = f->info().Label[edge];
+    return label >= 0 && orders[label] == 0;
+  };
+
+  // Points: one per sector of kept faces around each vertex (as in
+  // Stage::Extract).
+  for (Face f : cdt.finite_face_handles())
+  {
+    if (!f->info().Kept)
+    {
+      continue;
+    }
+    for (int i = 0; i < 3; ++i)
+    {
+      if (f->info().Point[i] >= 0)
+      {
+        continue;
+      }
+      VertexHandle v = f->vertex(i);
+      Face first = f;
+      for (;;)
+      {
+        const int edge = Cw(first->index(v));
+        Face prev = first->neighbor(edge);
+        if (isCut(first, edge) || cdt.is_infinite(prev) || !prev->info().Kept || prev == f)
+        {
+          break;
+        }
+        first = prev;
+      }
+      const int point = static_cast<int>(out.PointVertex.size());
+      out.PointVertex.push_back(v->info().Id);
+      Face g = first;
+      for (;;)
+      {
+        const int j = g->index(v);
+        g->info().Point[j] = point;
+        const int edge = Ccw(j);
+        Face next = g->neighbor(edge);
+        if (isCut(g, edge) || cdt.is_infinite(next) || !next->info().Kept ||
+          next->info().Point[next->index(v)] >= 0)
+        {
+          break;
+        }
+        g = next;
+      }
+    }
+  }
+
+  // Triangles (State = triangle index).
+  for (Face f : cdt.finite_face_handles())
+  {
+    if (!f->info().Kept)
+    {
+      continue;
+    }
+    f->info().State = static_cast<int>(out.Triangles.size());
+    out.Triangles.push_back({ f->info().Point[0], f->info().Point[1], f->info().Point[2] });
+    out.TriangleSegments.push_back({ -1, -1, -1 });
+  }
+
+  // Constrained edges bordering a kept face. In a face, edge k (corner k to
+  // k + 1) is the edge opposite vertex k + 2.
+  for (auto e = cdt.finite_edges_begin(); e != cdt.finite_edges_end(); ++e)
+  {
+    Face f = e->first;
+    const int i = e->second;
+    const int label = f->info().Label[i];
+    if (label < 0)
+    {
+      continue;
+    }
+    Face g = f->neighbor(i);
+    const int gi = g->index(f);
+    RefinableSnapshot::Segment s;
+    s.VertexA = f->vertex(Ccw(i))->info().Id;
+    s.VertexB = f->vertex(Cw(i))->info().Id;
+    s.Order = orders[label];
+    s.SourceId = sources[label];
+    const int index = static_cast<int>(out.Segments.size());
+    if (f->info().Kept)
+    {
+      s.LeftA = f->info().Point[Ccw(i)];
+      s.LeftB = f->info().Point[Cw(i)];
+      out.TriangleSegments[f->info().State][Ccw(i)] = index;
+    }
+    if (g->info().Kept)
+    {
+      // In g the edge runs from B (ccw(gi)) to A (cw(gi)).
+      s.RightB = g->info().Point[Ccw(gi)];
+      s.RightA = g->info().Point[Cw(gi)];
+      out.TriangleSegments[g->info().State][Ccw(gi)] = index;
+    }
+    out.Segments.push_back(s);
+  }
+}
 } // namespace detail
 } // namespace penumbra

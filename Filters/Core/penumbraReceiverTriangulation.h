@@ -1,16 +1,19 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file penumbraReceiverTriangulation.h
- * @brief Private interface between the discontinuity mesher and its CGAL
- * translation unit: the constrained Delaunay triangulation of one receiver
- * in its plane. Not installed; carries no CGAL type.
+ * @brief Private interface between the discontinuity mesher (and the
+ * adaptive sampler) and their CGAL translation unit: the constrained
+ * Delaunay triangulation of one receiver in its plane, and its refinement by
+ * point insertion. Not installed; carries no CGAL type.
  */
 #ifndef penumbraReceiverTriangulation_h
 #define penumbraReceiverTriangulation_h
 
 #include "penumbraDiscontinuityMesher.h"
 
+#include <array>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace penumbra
@@ -65,6 +68,107 @@ struct TriangulationOutput
  * border them, labelled with the lowest order of the constraints through them.
  */
 TriangulationOutput TriangulateReceiver(const TriangulationInput& input);
+
+/// A constrained segment of a RefinableTriangulation, between two vertex ids.
+struct RefinableSegment
+{
+  int A = -1;
+  int B = -1;
+  int Order = 2;     ///< -1 outline, 0, 1, 2
+  int SourceId = -1; ///< shooter, or -1
+};
+
+/**
+ * The current mesh of a RefinableTriangulation (its kept faces), in the same
+ * layout as ReceiverMesh but 2D: points are duplicated across order-0 edges
+ * (one copy per sector of kept faces around a vertex, sectors being separated
+ * by order-0 edges and by non-kept faces), so triangles on the two sides of
+ * an order-0 line never share a point.
+ */
+struct RefinableSnapshot
+{
+  /// (u, v) of every vertex id (stable across insertions; ids in [0, n)).
+  std::vector<std::array<double, 2>> Vertices;
+  /// Vertex id of each point (copy).
+  std::vector<int> PointVertex;
+  /// Kept triangles: point ids, counter-clockwise.
+  std::vector<std::array<int, 3>> Triangles;
+  /// Per triangle and edge k (from corner k to corner k + 1): index into
+  /// Segments of the constrained edge there, or -1 (unconstrained).
+  std::vector<std::array<int, 3>> TriangleSegments;
+  /// One constrained edge bordering kept faces.
+  struct Segment
+  {
+    int VertexA = -1, VertexB = -1; ///< vertex ids
+    int LeftA = -1, LeftB = -1;     ///< point ids on the left of A->B, or -1 (not kept)
+    int RightA = -1, RightB = -1;   ///< point ids on the right, or -1 (not kept)
+    int Order = 2;                  ///< lowest order of the constraints through it (-1 first)
+    int SourceId = -1;              ///< its source (lowest id among those of that order)
+  };
+  std::vector<Segment> Segments;
+};
+
+/**
+ * A constrained Delaunay triangulation of one receiver mesh in its plane
+ * (double coordinates, exact predicates) that accepts point insertions
+ * keeping every constraint and its label: the adaptive sampler's. A point
+ * inserted on a constrained edge splits it and both pieces keep the labels
+ * of every constraint through it. The triangulation is enclosed in a far
+ * bounding square (never part of the output), so receiver edges are never
+ * convex-hull edges and may be split by points rounded slightly off them.
+ * Deterministic: the same calls give the same output.
+ */
+class RefinableTriangulation
+{
+public:
+  /**
+   * Build from `vertices` (2D, ids = indices), constrained `segments`
+   * (between vertex ids) and seed points of the region to keep: a face is
+   * kept when its cell (connected across unconstrained edges) contains one
+   * of `keptSeeds` (e.g. the centroids of the triangles of a mesh of that
+   * region; seeds on an edge or a vertex are ignored). Vertices that
+   * coincide after rounding, or segments that cross or pass through a
+   * vertex, are resolved by the triangulation (crossings add vertices with
+   * new ids) and counted in GetIrregularities().
+   */
+  RefinableTriangulation(const std::vector<std::array<double, 2>>& vertices,
+    const std::vector<RefinableSegment>& segments,
+    const std::vector<std::array<double, 2>>& keptSeeds);
+  ~RefinableTriangulation();
+  RefinableTriangulation(const RefinableTriangulation&) = delete;
+  RefinableTriangulation& operator=(const RefinableTriangulation&) = delete;
+
+  /// Number of vertex ids (input vertices, then inserted ones).
+  int GetNumberOfVertices() const;
+  /// (u, v) of vertex `id`.
+  std::array<double, 2> GetVertex(int id) const;
+  /// Input vertices merged with another, failed segment insertions and
+  /// vertices created where segments cross (0 for a valid planar input).
+  std::size_t GetIrregularities() const;
+
+  /**
+   * Insert (u, v) into the kept face containing it, located from vertex
+   * `hintVertex`. Returns the new vertex id, or -1 (nothing inserted) when the
+   * point is on a vertex or a constrained edge, or not in a kept face.
+   */
+  int InsertInFace(double u, double v, int hintVertex);
+
+  /**
+   * Split the edge between vertices `a` and `b` at (u, v), a point on (or
+   * within rounding of) the segment: a constrained edge is split into two
+   * constrained pieces with its labels. Returns the new vertex id, or -1
+   * when a-b is no longer an edge or the split would give a triangle that is
+   * not counter-clockwise (exact predicate).
+   */
+  int InsertOnEdge(int a, int b, double u, double v);
+
+  /// The current kept mesh (uses per-face scratch data, hence not const).
+  void Extract(RefinableSnapshot& snapshot);
+
+private:
+  struct Internal;
+  std::unique_ptr<Internal> Impl;
+};
 
 } // namespace detail
 } // namespace penumbra

@@ -27,6 +27,8 @@ from .vtkPenumbraFilters import (  # noqa: F401
 
 import os
 
+from .pipeline import solve  # noqa: E402,F401
+
 __version__ = "0.1.0"
 
 

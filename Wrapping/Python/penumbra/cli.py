@@ -74,24 +74,28 @@ def _command_solve(args):
     import penumbra
     from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
 
-    if args.threads is not None:
-        from vtkmodules.vtkCommonCore import vtkSMPTools
-        vtkSMPTools.Initialize(args.threads)
     start = time.time()
-    scene = penumbra.load_scene(args.scene)
-    # The solver stages are not built yet: the job writes the validated scene
-    # with its arrays, as the data contract defines it.
-    sys.stderr.write("penumbra: note: the radiosity solver is not built yet; "
-                     "writing the validated scene\n")
+    bar = ProgressBar("solving", enabled=not args.quiet)
+    stage_weights = {"mesher": (0.0, 0.2), "evaluator": (0.2, 0.8), "reconstructor": (0.8, 1.0)}
+
+    def progress(stage, fraction):
+        low, high = stage_weights.get(stage, (0.0, 1.0))
+        bar.update(low + (high - low) * fraction, stage)
+
+    result = penumbra.solve(args.scene, threads=args.threads, progress=progress)
+    # Direct light only until the progressive shooter lands: say so.
+    sys.stderr.write("penumbra: note: direct illumination only (the progressive "
+                     "shooter for indirect light is not built yet)\n")
     writer = vtkXMLPolyDataWriter()
     writer.SetFileName(args.output)
-    writer.SetInputData(scene)
+    writer.SetInputData(result)
     writer.SetDataModeToAppended()
     writer.SetCompressorTypeToZLib()
     if not writer.Write():
         return _fail("could not write %s" % args.output)
     elapsed = time.time() - start
-    print("wrote %s (%d surfaces) in %.2f s" % (args.output, scene.GetNumberOfCells(), elapsed))
+    print("wrote %s (%d triangles, %d boundary lines) in %.2f s"
+          % (args.output, result.GetNumberOfPolys(), result.GetNumberOfLines(), elapsed))
     if args.png:
         from .rendering import render_png
         camera = "cornell" if args.scene == "cornell" else "auto"
@@ -134,6 +138,7 @@ def build_parser():
     solve.add_argument("--png", metavar="OUT.png", help="also render a picture of the result")
     solve.add_argument("--threads", type=_positive_int, metavar="N",
                        help="worker threads (default: all cores)")
+    solve.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     solve.set_defaults(handler=_command_solve)
 
     scenes = sub.add_parser("scenes", help="list the built-in scenes")
