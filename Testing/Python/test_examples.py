@@ -43,3 +43,26 @@ def test_readme_commands_match_ci():
     ci = open(os.path.join(SOURCE_DIR, ".ci", "run")).read()
     assert "./build.sh test" in readme and "./build.sh test" in ci.splitlines()[-1]
     assert "./build.sh run" in readme
+
+
+def test_python_compose_filters_example(tmp_path):
+    out = tmp_path / "seven.vtp"
+    script = os.path.join(SOURCE_DIR, "Examples", "Python", "compose_filters.py")
+    result = subprocess.run([sys.executable, script, "seven", str(out)], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, universal_newlines=True, timeout=300)
+    assert result.returncode == 0, result.stdout
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(str(out))
+    reader.Update()
+    assert reader.GetOutput().GetPointData().GetArray("Radiance") is not None
+
+
+def test_readme_solve_snippet_runs():
+    readme = open(os.path.join(SOURCE_DIR, "README.md")).read()
+    blocks = [b.split("```", 1)[0] for b in readme.split("```python\n")[1:]]
+    snippet = [b for b in blocks if "penumbra.solve(" in b]
+    assert snippet, "the README shows penumbra.solve"
+    result = subprocess.run([sys.executable, "-c", snippet[0]], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, universal_newlines=True, timeout=300)
+    assert result.returncode == 0, result.stdout
+    assert "triangles" in result.stdout
