@@ -17,8 +17,10 @@
 #include "vtkSMPTools.h"
 
 #include "penumbraExactVisibility.h"
+#include "penumbraRayCastEvaluator.h"
 
 #include <algorithm>
+#include <memory>
 #include <sstream>
 
 vtkStandardNewMacro(vtkRadianceEvaluator);
@@ -176,15 +178,14 @@ int vtkRadianceEvaluator::RequestData(
     vtkErrorMacro(<< e.what());
     return 0;
   }
-  if (this->Method == RAY_CAST)
-  {
-    output->Initialize();
-    vtkErrorMacro(<< "Method: RAY_CAST is not available in this build yet; use EXACT");
-    return 0;
-  }
-
   this->UpdateProgress(0.0);
   const penumbra::ExactEvaluator evaluator(scene);
+  std::unique_ptr<penumbra::RayCastEvaluator> rayCaster;
+  if (this->Method == RAY_CAST)
+  {
+    rayCaster.reset(new penumbra::RayCastEvaluator(scene));
+    rayCaster->SetTolerance(this->RayCastTolerance);
+  }
   std::vector<penumbra::Vec3> normals(scene.Surfaces.size());
   for (std::size_t i = 0; i < scene.Surfaces.size(); ++i)
   {
@@ -241,8 +242,9 @@ int vtkRadianceEvaluator::RequestData(
           {
             continue;
           }
-          const double f =
-            evaluator.FormFactor(x, normals[i], i, shooters[k], candidates[pair], workspace);
+          const double f = rayCaster
+            ? rayCaster->FormFactor(x, normals[i], i, shooters[k])
+            : evaluator.FormFactor(x, normals[i], i, shooters[k], candidates[pair], workspace);
           irradianceOverPi += scene.Surfaces[shooters[k]].Emission * f;
         }
         penumbra::RGB value = receiver.Reflectance * irradianceOverPi;

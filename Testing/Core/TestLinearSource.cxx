@@ -307,6 +307,12 @@ void TestAgainstQuadrature()
   // Receiver point 1e-3 below the source plane, foot inside, and beside it.
   CheckConfiguration("1e-3 from the plane, foot inside", { 0.05, 0.999, -0.05 }, { 0, 1, 0 },
     parallel, values, 1e-12);
+  // Foot of the perpendicular exactly at a vertex and on an edge (edge lines
+  // through the foot: zero-angle terms).
+  CheckConfiguration("foot at a vertex, h = 0.01", { -0.5, 0.99, -0.4 }, { 0, 1, 0 }, parallel,
+    values, 1e-12);
+  CheckConfiguration("foot on an edge, h = 0.01", { 0.05, 0.99, -0.45 }, Unit(0.1, 1, 0.1),
+    parallel, values, 1e-12);
   // Outside the footprint near the plane, F is O(h) from O(1) edge terms
   // (Lambert's formula itself): about 1e-16 size / h relative.
   CheckConfiguration("1e-3 from the plane, foot outside", { 0.9, 0.999, 0.1 }, { 0, 1, 0 },

@@ -310,7 +310,8 @@ void TestHalfLitAgreement()
   }
   const ShooterRadiance halfLit(points, triangles, values);
   RayCastEvaluator evaluator(scene);
-  evaluator.SetTolerance(1e-4);
+  evaluator.SetTolerance(1e-5);
+  evaluator.SetMaxDepth(12);
   ExactEvaluator exact(scene);
   LinearSourceWorkspace workspace;
   for (const double s : { -1.0, -0.5, 0.0, 0.5, 1.0 })

@@ -115,6 +115,23 @@ def test_cornell_blocks_shadow_the_floor():
     assert 0.2 * unoccluded < red < 0.95 * unoccluded
 
 
+def test_ray_cast_converges_to_exact():
+    """RAY_CAST approaches EXACT as its tolerance shrinks (seven occluders floor)."""
+    scene = penumbra.load_scene("seven")
+    floor = cell_of(scene, lambda p: np.allclose(p[:, 1], 0))
+    rng = np.random.default_rng(11)
+    pts = np.column_stack([rng.uniform(-1, 1, 300), np.zeros(300), rng.uniform(-1, 1, 300)])
+    exact = vtk_to_numpy(evaluate(scene, samples(pts, floor)).GetPointData().GetArray("Radiance"))
+    errors = []
+    for tolerance in (1e-1, 1e-2, 1e-3):
+        ray = evaluate(scene, samples(pts, floor), Method=penumbra.vtkRadianceEvaluator.RAY_CAST,
+                       RayCastTolerance=tolerance)
+        values = vtk_to_numpy(ray.GetPointData().GetArray("Radiance"))
+        errors.append(np.sqrt(np.mean((values - exact) ** 2)) / exact.mean())
+    print("ray-cast RMS error relative to the mean, tolerance 1e-1, 1e-2, 1e-3:", errors)
+    assert errors[2] < errors[0] and errors[2] < 0.01
+
+
 def test_emission_is_included_on_emitters_and_can_be_left_out():
     scene = penumbra.load_scene("cornell")
     emission = vtk_to_numpy(scene.GetCellData().GetArray("Emission"))
