@@ -17,9 +17,14 @@
 #include "vtkSMPTools.h"
 
 #include "penumbraExactVisibility.h"
+#include "penumbraLinearSource.h"
+#include "penumbraShooterRadiance.h"
 #include "penumbraRayCastEvaluator.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -90,14 +95,86 @@ std::vector<int> SampleSurfaces(vtkPolyData* samples, int numberOfSurfaces)
 
 vtkRadianceEvaluator::vtkRadianceEvaluator()
 {
-  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfInputPorts(3);
 }
 
 int vtkRadianceEvaluator::FillInputPortInformation(int port, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
-  (void)port;
+  if (port == 2)
+  {
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  }
   return 1;
+}
+
+namespace
+{
+/// Piecewise-linear shooter radiance per surface from port 2's triangles.
+std::map<int, penumbra::ShooterRadiance> ShooterFunctions(
+  vtkPolyData* data, int numberOfSurfaces)
+{
+  std::map<int, penumbra::ShooterRadiance> functions;
+  if (!data || data->GetNumberOfPolys() == 0)
+  {
+    return functions;
+  }
+  vtkDataArray* radiance = data->GetPointData()->GetArray("Radiance");
+  vtkDataArray* surfaceIds = data->GetCellData()->GetArray("SurfaceId");
+  if (!radiance || radiance->GetNumberOfComponents() != 3 || !surfaceIds)
+  {
+    throw penumbra::InputError("shooter radiance (port 2) needs a 3-component point array "
+                               "'Radiance' and a cell array 'SurfaceId'");
+  }
+  struct Mesh
+  {
+    std::vector<penumbra::Vec3> Points;
+    std::vector<std::array<int, 3>> Triangles;
+    std::vector<penumbra::RGB> Values;
+    std::map<vtkIdType, int> Local;
+  };
+  std::map<int, Mesh> meshes;
+  vtkIdType cellId = data->GetNumberOfVerts() + data->GetNumberOfLines();
+  auto it = vtk::TakeSmartPointer(data->GetPolys()->NewIterator());
+  vtkIdType npts;
+  const vtkIdType* pts;
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+  {
+    it->GetCurrentCell(npts, pts);
+    const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
+    if (npts != 3 || surface < 0 || surface >= numberOfSurfaces)
+    {
+      std::ostringstream os;
+      os << "shooter radiance (port 2) cell " << cellId
+         << (npts != 3 ? " is not a triangle" : " has a SurfaceId that is not a scene cell");
+      throw penumbra::InputError(os.str());
+    }
+    Mesh& mesh = meshes[surface];
+    std::array<int, 3> triangle;
+    for (int k = 0; k < 3; ++k)
+    {
+      auto found = mesh.Local.find(pts[k]);
+      if (found == mesh.Local.end())
+      {
+        double p[3], v[3];
+        data->GetPoint(pts[k], p);
+        radiance->GetTuple(pts[k], v);
+        found = mesh.Local.emplace(pts[k], static_cast<int>(mesh.Points.size())).first;
+        mesh.Points.emplace_back(p[0], p[1], p[2]);
+        mesh.Values.emplace_back(v[0], v[1], v[2]);
+      }
+      triangle[k] = found->second;
+    }
+    mesh.Triangles.push_back(triangle);
+  }
+  for (auto& entry : meshes)
+  {
+    functions.emplace(entry.first,
+      penumbra::ShooterRadiance(std::move(entry.second.Points), std::move(entry.second.Triangles),
+        std::move(entry.second.Values)));
+  }
+  return functions;
+}
 }
 
 void vtkRadianceEvaluator::AddShooterId(vtkIdType id)
@@ -130,6 +207,8 @@ int vtkRadianceEvaluator::RequestData(
 {
   vtkPolyData* samples = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* sceneData = vtkPolyData::GetData(inputVector[1]);
+  vtkPolyData* shooterData =
+    inputVector[2]->GetNumberOfInformationObjects() ? vtkPolyData::GetData(inputVector[2]) : nullptr;
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   output->ShallowCopy(samples);
   if (samples->GetNumberOfPoints() == 0)
@@ -145,12 +224,14 @@ int vtkRadianceEvaluator::RequestData(
   penumbra::Scene scene;
   std::vector<int> surfaceOf;
   std::vector<int> shooters;
+  std::map<int, penumbra::ShooterRadiance> functions;
   try
   {
     scene = penumbra::SceneFromPolyData(sceneData);
     penumbra::ValidateScene(scene);
     const int numberOfSurfaces = static_cast<int>(scene.Surfaces.size());
     surfaceOf = SampleSurfaces(samples, numberOfSurfaces);
+    functions = ShooterFunctions(shooterData, numberOfSurfaces);
     for (vtkIdType id : this->ShooterIds)
     {
       if (id < 0 || id >= numberOfSurfaces)
@@ -165,7 +246,7 @@ int vtkRadianceEvaluator::RequestData(
     {
       for (int j = 0; j < numberOfSurfaces; ++j)
       {
-        if (!scene.Surfaces[j].Emission.IsZero())
+        if (!scene.Surfaces[j].Emission.IsZero() || functions.count(j))
         {
           shooters.push_back(j);
         }
@@ -217,6 +298,13 @@ int vtkRadianceEvaluator::RequestData(
   radiance->SetNumberOfComponents(3);
   radiance->SetNumberOfTuples(numberOfPoints);
   vtkSMPThreadLocal<penumbra::VisibilityWorkspace> workspaces;
+  vtkSMPThreadLocal<penumbra::LinearSourceWorkspace> linearWorkspaces;
+  std::vector<const penumbra::ShooterRadiance*> shooterFunction(numberOfShooters, nullptr);
+  for (std::size_t k = 0; k < numberOfShooters; ++k)
+  {
+    auto found = functions.find(shooters[k]);
+    shooterFunction[k] = found == functions.end() ? nullptr : &found->second;
+  }
   vtkPoints* points = samples->GetPoints();
 
   // Batches between which progress is reported and abort is honoured.
@@ -240,6 +328,15 @@ int vtkRadianceEvaluator::RequestData(
           const std::size_t pair = static_cast<std::size_t>(i) * numberOfShooters + k;
           if (!exchanges[pair])
           {
+            continue;
+          }
+          if (const penumbra::ShooterRadiance* function = shooterFunction[k])
+          {
+            const penumbra::RGB e = rayCaster
+              ? rayCaster->Irradiance(x, normals[i], i, shooters[k], *function)
+              : penumbra::ExactShooterIrradiance(
+                  evaluator, x, normals[i], i, shooters[k], *function, linearWorkspaces.Local());
+            irradianceOverPi += e * (1.0 / M_PI);
             continue;
           }
           const double f = rayCaster

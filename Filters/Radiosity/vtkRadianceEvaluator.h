@@ -23,6 +23,15 @@
  * same integral by adaptive subdivision of the shooter with Embree occlusion
  * rays (paper Eq. 6). The output is the input with this array added.
  *
+ * Non-uniform shooters: optional input port 2 (SetShooterRadianceConnection)
+ * takes triangles with cell data `SurfaceId` and point data `Radiance`: for
+ * each surface present there, its radiance is that piecewise-linear function
+ * over its triangles instead of its constant Emission (e.g. the unshot
+ * radiance of a secondary shooter), integrated as such by both methods
+ * (EXACT: the linear-source closed form over each triangle's visible part).
+ * With no ShooterIds, the shooters are every emitter and every surface on
+ * port 2.
+ *
  * Work is spread over threads with vtkSMPTools; every point is computed
  * independently, so the output does not depend on the number of threads.
  *
@@ -96,6 +105,15 @@ public:
    */
   void SetSceneConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
   void SetSceneData(vtkDataObject* scene) { this->SetInputData(1, scene); }
+
+  /**
+   * Connect the optional non-uniform shooter radiance (input port 2).
+   */
+  void SetShooterRadianceConnection(vtkAlgorithmOutput* output)
+  {
+    this->SetInputConnection(2, output);
+  }
+  void SetShooterRadianceData(vtkDataObject* radiance) { this->SetInputData(2, radiance); }
 
 protected:
   vtkRadianceEvaluator();
