@@ -643,7 +643,11 @@ RefinableTriangulation::RefinableTriangulation(const std::vector<std::array<doub
     int li = 0;
     Face f = in.Cdt.locate(Point(seed[0], seed[1]), lt, li, previous);
     previous = f;
-    if (lt != Internal::CDT::FACE || in.Cdt.is_infinite(f) || f->info().Kept)
+    // A seed may lie on an unconstrained edge (the centroids of a
+    // rectangle's two triangles lie on its other diagonal): both faces of
+    // that edge are in the seed's cell.
+    if (!(lt == Internal::CDT::FACE || (lt == Internal::CDT::EDGE && !f->is_constrained(li))) ||
+      in.Cdt.is_infinite(f) || f->info().Kept)
     {
       continue;
     }

@@ -8,6 +8,9 @@
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
@@ -16,6 +19,8 @@
 #include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
 
+#include "penumbraAdaptiveSampler.h"
+#include "penumbraDiscontinuityMesher.h"
 #include "penumbraExactVisibility.h"
 #include "penumbraLinearSource.h"
 #include "penumbraShooterRadiance.h"
@@ -27,6 +32,7 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <unordered_map>
 
 vtkStandardNewMacro(vtkRadianceEvaluator);
 
@@ -292,11 +298,6 @@ int vtkRadianceEvaluator::RequestData(
     }
   }
 
-  const vtkIdType numberOfPoints = samples->GetNumberOfPoints();
-  vtkNew<vtkDoubleArray> radiance;
-  radiance->SetName("Radiance");
-  radiance->SetNumberOfComponents(3);
-  radiance->SetNumberOfTuples(numberOfPoints);
   vtkSMPThreadLocal<penumbra::VisibilityWorkspace> workspaces;
   vtkSMPThreadLocal<penumbra::LinearSourceWorkspace> linearWorkspaces;
   std::vector<const penumbra::ShooterRadiance*> shooterFunction(numberOfShooters, nullptr);
@@ -305,6 +306,50 @@ int vtkRadianceEvaluator::RequestData(
     auto found = functions.find(shooters[k]);
     shooterFunction[k] = found == functions.end() ? nullptr : &found->second;
   }
+
+  // The radiance at x on surface i: emission + sum over shooters. Thread-safe.
+  auto evaluatePoint = [&](int i, const penumbra::Vec3& x) {
+    const penumbra::Surface& receiver = scene.Surfaces[i];
+    penumbra::RGB irradianceOverPi; // sum_j L^e_j F_j
+    for (std::size_t k = 0; k < numberOfShooters; ++k)
+    {
+      const std::size_t pair = static_cast<std::size_t>(i) * numberOfShooters + k;
+      if (!exchanges[pair])
+      {
+        continue;
+      }
+      if (const penumbra::ShooterRadiance* function = shooterFunction[k])
+      {
+        const penumbra::RGB e = rayCaster
+          ? rayCaster->Irradiance(x, normals[i], i, shooters[k], *function)
+          : penumbra::ExactShooterIrradiance(
+              evaluator, x, normals[i], i, shooters[k], *function, linearWorkspaces.Local());
+        irradianceOverPi += e * (1.0 / M_PI);
+        continue;
+      }
+      const double f = rayCaster
+        ? rayCaster->FormFactor(x, normals[i], i, shooters[k])
+        : evaluator.FormFactor(x, normals[i], i, shooters[k], candidates[pair], workspaces.Local());
+      irradianceOverPi += scene.Surfaces[shooters[k]].Emission * f;
+    }
+    penumbra::RGB value = receiver.Reflectance * irradianceOverPi;
+    if (this->IncludeEmission)
+    {
+      value += receiver.Emission;
+    }
+    return value;
+  };
+
+  if (this->AdaptiveSampling && samples->GetNumberOfPolys() > 0)
+  {
+    return this->SampleAdaptively(samples, output, evaluatePoint) ? 1 : 0;
+  }
+
+  const vtkIdType numberOfPoints = samples->GetNumberOfPoints();
+  vtkNew<vtkDoubleArray> radiance;
+  radiance->SetName("Radiance");
+  radiance->SetNumberOfComponents(3);
+  radiance->SetNumberOfTuples(numberOfPoints);
   vtkPoints* points = samples->GetPoints();
 
   // Batches between which progress is reported and abort is honoured.
@@ -314,41 +359,12 @@ int vtkRadianceEvaluator::RequestData(
     const vtkIdType begin = numberOfPoints * batch / batches;
     const vtkIdType end = numberOfPoints * (batch + 1) / batches;
     vtkSMPTools::For(begin, end, [&](vtkIdType first, vtkIdType last) {
-      penumbra::VisibilityWorkspace& workspace = workspaces.Local();
       for (vtkIdType p = first; p < last; ++p)
       {
-        const int i = surfaceOf[p];
         double xyz[3];
         points->GetPoint(p, xyz);
-        const penumbra::Vec3 x(xyz[0], xyz[1], xyz[2]);
-        const penumbra::Surface& receiver = scene.Surfaces[i];
-        penumbra::RGB irradianceOverPi; // sum_j L^e_j F_j
-        for (std::size_t k = 0; k < numberOfShooters; ++k)
-        {
-          const std::size_t pair = static_cast<std::size_t>(i) * numberOfShooters + k;
-          if (!exchanges[pair])
-          {
-            continue;
-          }
-          if (const penumbra::ShooterRadiance* function = shooterFunction[k])
-          {
-            const penumbra::RGB e = rayCaster
-              ? rayCaster->Irradiance(x, normals[i], i, shooters[k], *function)
-              : penumbra::ExactShooterIrradiance(
-                  evaluator, x, normals[i], i, shooters[k], *function, linearWorkspaces.Local());
-            irradianceOverPi += e * (1.0 / M_PI);
-            continue;
-          }
-          const double f = rayCaster
-            ? rayCaster->FormFactor(x, normals[i], i, shooters[k])
-            : evaluator.FormFactor(x, normals[i], i, shooters[k], candidates[pair], workspace);
-          irradianceOverPi += scene.Surfaces[shooters[k]].Emission * f;
-        }
-        penumbra::RGB value = receiver.Reflectance * irradianceOverPi;
-        if (this->IncludeEmission)
-        {
-          value += receiver.Emission;
-        }
+        const penumbra::RGB value =
+          evaluatePoint(surfaceOf[p], penumbra::Vec3(xyz[0], xyz[1], xyz[2]));
         radiance->SetTuple3(p, value.R, value.G, value.B);
       }
     });
@@ -364,11 +380,240 @@ int vtkRadianceEvaluator::RequestData(
   return 1;
 }
 
+bool vtkRadianceEvaluator::SampleAdaptively(vtkPolyData* samples, vtkPolyData* output,
+  const std::function<penumbra::RGB(int, const penumbra::Vec3&)>& evaluatePoint)
+{
+  vtkDataArray* surfaceIds = samples->GetCellData()->GetArray("SurfaceId");
+  vtkDataArray* orders = samples->GetCellData()->GetArray("DiscontinuityOrder");
+  vtkDataArray* sources = samples->GetCellData()->GetArray("SourceId");
+  if (!surfaceIds)
+  {
+    output->Initialize();
+    vtkErrorMacro(<< "adaptive sampling needs the cell array 'SurfaceId' on the triangles");
+    return false;
+  }
+
+  // Rebuild each surface's mesh (mesher layout) from the triangles and lines.
+  std::map<int, penumbra::ReceiverMesh> meshes;
+  std::map<int, std::unordered_map<vtkIdType, int>> localIds;
+  std::map<int, std::map<std::array<double, 3>, int>> vertexIds;
+  auto localId = [&](int surface, vtkIdType id) {
+    auto& ids = localIds[surface];
+    auto found = ids.find(id);
+    if (found != ids.end())
+    {
+      return found->second;
+    }
+    penumbra::ReceiverMesh& mesh = meshes[surface];
+    double p[3];
+    samples->GetPoint(id, p);
+    auto& vertices = vertexIds[surface];
+    const auto vertex = vertices.emplace(std::array<double, 3>{ p[0], p[1], p[2] },
+      static_cast<int>(vertices.size()));
+    mesh.Points.emplace_back(p[0], p[1], p[2]);
+    mesh.PointVertex.push_back(vertex.first->second);
+    const int k = static_cast<int>(mesh.Points.size()) - 1;
+    ids.emplace(id, k);
+    return k;
+  };
+  vtkIdType cellId = samples->GetNumberOfVerts();
+  std::vector<std::array<vtkIdType, 2>> lines;
+  std::vector<vtkIdType> lineCells;
+  {
+    auto it = vtk::TakeSmartPointer(samples->GetLines()->NewIterator());
+    vtkIdType npts;
+    const vtkIdType* pts;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+    {
+      it->GetCurrentCell(npts, pts);
+      for (vtkIdType k = 0; k + 1 < npts; ++k)
+      {
+        lines.push_back({ pts[k], pts[k + 1] });
+        lineCells.push_back(cellId);
+      }
+    }
+  }
+  {
+    auto it = vtk::TakeSmartPointer(samples->GetPolys()->NewIterator());
+    vtkIdType npts;
+    const vtkIdType* pts;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+    {
+      it->GetCurrentCell(npts, pts);
+      if (npts != 3)
+      {
+        output->Initialize();
+        vtkErrorMacro(<< "cell " << cellId << " is not a triangle; adaptive sampling needs a "
+                      << "triangle mesh (vtkDiscontinuityMesher's output)");
+        return false;
+      }
+      const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
+      const int a = localId(surface, pts[0]), b = localId(surface, pts[1]),
+                c = localId(surface, pts[2]);
+      meshes[surface].ReceiverId = surface;
+      meshes[surface].Triangles.push_back({ a, b, c });
+    }
+  }
+  for (std::size_t k = 0; k < lines.size(); ++k)
+  {
+    const int surface = static_cast<int>(surfaceIds->GetComponent(lineCells[k], 0));
+    auto ids = localIds.find(surface);
+    if (ids == localIds.end())
+    {
+      continue;
+    }
+    auto a = ids->second.find(lines[k][0]);
+    auto b = ids->second.find(lines[k][1]);
+    if (a == ids->second.end() || b == ids->second.end())
+    {
+      continue;
+    }
+    penumbra::DiscontinuitySegment segment;
+    penumbra::ReceiverMesh& mesh = meshes[surface];
+    segment.A = mesh.Points[a->second];
+    segment.B = mesh.Points[b->second];
+    segment.PointA = a->second;
+    segment.PointB = b->second;
+    segment.Order = orders ? static_cast<int>(orders->GetComponent(lineCells[k], 0)) : 2;
+    segment.SourceId = sources ? static_cast<int>(sources->GetComponent(lineCells[k], 0)) : -1;
+    segment.ReceiverId = surface;
+    mesh.Segments.push_back(segment);
+  }
+
+  penumbra::AdaptiveSamplingSettings settings;
+  settings.RelativeTolerance = this->SamplingTolerance;
+  settings.MaximumSamples = this->MaximumSamplesPerSurface;
+  settings.MinimumFeatureSize = this->MinimumFeatureSize;
+
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> outLines, outPolys;
+  vtkNew<vtkDoubleArray> radiance, residual;
+  radiance->SetName("Radiance");
+  radiance->SetNumberOfComponents(3);
+  residual->SetName("SamplingResidual");
+  residual->SetNumberOfComponents(3);
+  vtkNew<vtkIntArray> pointSurface;
+  pointSurface->SetName("SurfaceId");
+  std::vector<int> lineSurface, lineOrder, lineSource, polySurface;
+  std::vector<std::array<double, 3>> polyResidual;
+  long long evaluations = 0;
+  std::size_t done = 0;
+  for (const auto& entry : meshes)
+  {
+    if (this->GetAbortExecute())
+    {
+      output->Initialize();
+      return true;
+    }
+    const int surface = entry.first;
+    penumbra::AdaptiveSamplingResult result;
+    try
+    {
+      result = penumbra::SampleReceiver(
+        entry.second,
+        [&](const penumbra::Vec3* x, int count, penumbra::RGB* values) {
+          vtkSMPTools::For(0, count, [&](vtkIdType first, vtkIdType last) {
+            for (vtkIdType k = first; k < last; ++k)
+            {
+              values[k] = evaluatePoint(surface, x[k]);
+            }
+          });
+        },
+        settings);
+    }
+    catch (const penumbra::InputError& e)
+    {
+      output->Initialize();
+      vtkErrorMacro(<< "surface " << surface << ": " << e.what());
+      return false;
+    }
+    evaluations += result.Statistics.Evaluations;
+    const vtkIdType offset = points->GetNumberOfPoints();
+    for (std::size_t p = 0; p < result.Mesh.Points.size(); ++p)
+    {
+      const penumbra::Vec3& x = result.Mesh.Points[p];
+      points->InsertNextPoint(x.X, x.Y, x.Z);
+      radiance->InsertNextTuple3(result.Values[p].R, result.Values[p].G, result.Values[p].B);
+      pointSurface->InsertNextValue(surface);
+    }
+    std::vector<std::array<double, 3>> worst(result.Mesh.Triangles.size(), { 0.0, 0.0, 0.0 });
+    for (std::size_t q = 0; q < result.Probes.Triangles.size(); ++q)
+    {
+      auto& w = worst[static_cast<std::size_t>(result.Probes.Triangles[q])];
+      for (int c = 0; c < 3; ++c)
+      {
+        w[c] = std::max(w[c], std::abs(result.Probes.Residuals[3 * q + c]));
+      }
+    }
+    for (std::size_t t = 0; t < result.Mesh.Triangles.size(); ++t)
+    {
+      const auto& tri = result.Mesh.Triangles[t];
+      const vtkIdType ids[3] = { offset + tri[0], offset + tri[1], offset + tri[2] };
+      outPolys->InsertNextCell(3, ids);
+      polySurface.push_back(surface);
+      polyResidual.push_back(worst[t]);
+    }
+    for (const penumbra::DiscontinuitySegment& segment : result.Mesh.Segments)
+    {
+      const vtkIdType ids[2] = { offset + segment.PointA, offset + segment.PointB };
+      outLines->InsertNextCell(2, ids);
+      lineSurface.push_back(surface);
+      lineOrder.push_back(segment.Order);
+      lineSource.push_back(segment.SourceId);
+    }
+    this->UpdateProgress(static_cast<double>(++done) / meshes.size());
+  }
+
+  output->Initialize();
+  output->SetPoints(points);
+  output->SetLines(outLines);
+  output->SetPolys(outPolys);
+  output->GetPointData()->AddArray(radiance);
+  output->GetPointData()->SetActiveScalars("Radiance");
+  output->GetPointData()->AddArray(pointSurface);
+  auto addCellArray = [&](const char* name, const std::vector<int>& lineValues,
+                        const std::vector<int>* polyValues, int polyDefault) {
+    vtkNew<vtkIntArray> array;
+    array->SetName(name);
+    for (int v : lineValues)
+    {
+      array->InsertNextValue(v);
+    }
+    for (std::size_t t = 0; t < polySurface.size(); ++t)
+    {
+      array->InsertNextValue(polyValues ? (*polyValues)[t] : polyDefault);
+    }
+    output->GetCellData()->AddArray(array);
+  };
+  addCellArray("SurfaceId", lineSurface, &polySurface, 0);
+  addCellArray("DiscontinuityOrder", lineOrder, nullptr, -2);
+  addCellArray("SourceId", lineSource, nullptr, -1);
+  for (std::size_t k = 0; k < lineSurface.size(); ++k)
+  {
+    residual->InsertNextTuple3(0.0, 0.0, 0.0);
+  }
+  for (const auto& r : polyResidual)
+  {
+    residual->InsertNextTuple(r.data());
+  }
+  output->GetCellData()->AddArray(residual);
+  vtkNew<vtkIdTypeArray> evaluationCount;
+  evaluationCount->SetName("Evaluations");
+  evaluationCount->InsertNextValue(static_cast<vtkIdType>(evaluations));
+  output->GetFieldData()->AddArray(evaluationCount);
+  return true;
+}
+
 void vtkRadianceEvaluator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Method: " << (this->Method == EXACT ? "EXACT" : "RAY_CAST") << "\n";
   os << indent << "RayCastTolerance: " << this->RayCastTolerance << "\n";
+  os << indent << "AdaptiveSampling: " << (this->AdaptiveSampling ? "On" : "Off") << "\n";
+  os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
+  os << indent << "MaximumSamplesPerSurface: " << this->MaximumSamplesPerSurface << "\n";
+  os << indent << "MinimumFeatureSize: " << this->MinimumFeatureSize << "\n";
   os << indent << "IncludeEmission: " << (this->IncludeEmission ? "On" : "Off") << "\n";
   os << indent << "ShooterIds:";
   if (this->ShooterIds.empty())

@@ -32,6 +32,21 @@
  * With no ShooterIds, the shooters are every emitter and every surface on
  * port 2.
  *
+ * Adaptive sampling (paper §4, on by default): when the samples are a
+ * triangle mesh (vtkDiscontinuityMesher's output: triangles with
+ * `SurfaceId`, lines with `DiscontinuityOrder` and `SourceId`, points on
+ * order-0 lines duplicated per side), each surface's mesh is refined by
+ * constrained Delaunay point insertions that keep every boundary, until
+ * the radiance at the midpoints of every edge agrees with the C1 cubic
+ * interpolant of the samples within SamplingTolerance of the surface's mean
+ * radiance (or the triangle is narrower than MinimumFeatureSize, or the
+ * surface has MaximumSamplesPerSurface samples). The output is then the
+ * refined mesh, with the same arrays plus the cell array
+ * `SamplingResidual` (3 components: the largest |true - interpolated|
+ * radiance found at the triangle's last probes; 0 on lines), which
+ * vtkRadianceReconstructor turns into its error estimate, and the field
+ * array `Evaluations`.
+ *
  * Work is spread over threads with vtkSMPTools; every point is computed
  * independently, so the output does not depend on the number of threads.
  *
@@ -43,7 +58,14 @@
 #include "vtkPenumbraFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
-#include <vector> // for std::vector
+#include <functional> // for std::function
+#include <vector>     // for std::vector
+
+namespace penumbra
+{
+struct RGB;
+struct Vec3;
+}
 
 class VTKPENUMBRAFILTERS_EXPORT vtkRadianceEvaluator : public vtkPolyDataAlgorithm
 {
@@ -77,6 +99,44 @@ public:
    */
   vtkSetClampMacro(RayCastTolerance, double, 1e-9, 1.0);
   vtkGetMacro(RayCastTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Refine triangle meshes adaptively (see the class description). Default
+   * on; off evaluates the given points only.
+   */
+  vtkSetMacro(AdaptiveSampling, bool);
+  vtkGetMacro(AdaptiveSampling, bool);
+  vtkBooleanMacro(AdaptiveSampling, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Adaptive sampling tolerance, relative to each surface's mean radiance
+   * (per channel). Default 0.002, range [1e-6, 1].
+   */
+  vtkSetClampMacro(SamplingTolerance, double, 1e-6, 1.0);
+  vtkGetMacro(SamplingTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Adaptive sampling budget per surface (samples). Default 200000, range
+   * [3, 100000000].
+   */
+  vtkSetClampMacro(MaximumSamplesPerSurface, int, 3, 100000000);
+  vtkGetMacro(MaximumSamplesPerSurface, int);
+  ///@}
+
+  ///@{
+  /**
+   * Triangles narrower than this fraction of their surface's diameter are
+   * not refined (features no finite sampling resolves, such as penumbrae
+   * shrinking to a point at a contact corner). Default 1e-4, range [0, 1].
+   */
+  vtkSetClampMacro(MinimumFeatureSize, double, 0.0, 1.0);
+  vtkGetMacro(MinimumFeatureSize, double);
   ///@}
 
   ///@{
@@ -122,9 +182,17 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
+  /// The adaptive-sampling path of RequestData; false after an error.
+  bool SampleAdaptively(vtkPolyData* samples, vtkPolyData* output,
+    const std::function<penumbra::RGB(int, const penumbra::Vec3&)>& evaluatePoint);
+
   int Method = EXACT;
   double RayCastTolerance = 1e-3;
   bool IncludeEmission = true;
+  bool AdaptiveSampling = true;
+  double SamplingTolerance = 0.002;
+  int MaximumSamplesPerSurface = 200000;
+  double MinimumFeatureSize = 1e-4;
   std::vector<vtkIdType> ShooterIds;
 
 private:

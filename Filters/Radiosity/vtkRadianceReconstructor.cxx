@@ -36,7 +36,8 @@ struct SurfaceCells
   std::vector<std::array<vtkIdType, 2>> Lines;
   std::vector<int> LineOrders;
   std::vector<int> LineSources;
-  std::vector<vtkIdType> Probes;
+  /// Largest residual of adaptive sampling per triangle (empty if unknown).
+  std::vector<std::array<double, 3>> Residuals;
 };
 
 /// One surface's reconstructed output, in its own point numbering.
@@ -123,23 +124,9 @@ void ReconstructSurface(const SurfaceCells& cells, vtkPoints* points, vtkDataArr
   reconstruction.Build(mesh, options);
 
   penumbra::ErrorProbes probes;
-  for (vtkIdType id : cells.Probes)
+  for (std::size_t t = 0; t < cells.Residuals.size(); ++t)
   {
-    const penumbra::Vec3 d = GetPoint(points, id) - origin;
-    const double u = penumbra::Dot(d, axisU), v = penumbra::Dot(d, axisV);
-    const int triangle = reconstruction.FindTriangle(u, v);
-    if (triangle < 0)
-    {
-      continue;
-    }
-    double interpolated[3], truth[3], residual[3];
-    reconstruction.EvaluateAt(triangle, u, v, interpolated);
-    radiance->GetTuple(id, truth);
-    for (int c = 0; c < 3; ++c)
-    {
-      residual[c] = truth[c] - interpolated[c];
-    }
-    probes.Add(triangle, residual, 3);
+    probes.Add(static_cast<int>(t), cells.Residuals[t].data(), 3);
   }
 
   penumbra::ResampledMesh result;
@@ -183,6 +170,11 @@ int vtkRadianceReconstructor::RequestData(
   vtkDataArray* surfaceIds = input->GetCellData()->GetArray("SurfaceId");
   vtkDataArray* orders = input->GetCellData()->GetArray("DiscontinuityOrder");
   vtkDataArray* sources = input->GetCellData()->GetArray("SourceId");
+  vtkDataArray* residuals = input->GetCellData()->GetArray("SamplingResidual");
+  if (residuals && residuals->GetNumberOfComponents() != 3)
+  {
+    residuals = nullptr;
+  }
   if (!radiance || radiance->GetNumberOfComponents() != 3)
   {
     vtkErrorMacro(<< "the input needs a 3-component point array 'Radiance' "
@@ -210,12 +202,9 @@ int vtkRadianceReconstructor::RequestData(
       SurfaceCells& cells = surfaces[static_cast<int>(surfaceIds->GetComponent(cellId, 0))];
       if (kind == 0)
       {
-        for (vtkIdType k = 0; k < npts; ++k)
-        {
-          cells.Probes.push_back(pts[k]);
-        }
+        continue; // vertex cells carry nothing to reconstruct
       }
-      else if (kind == 1)
+      if (kind == 1)
       {
         for (vtkIdType k = 0; k + 1 < npts; ++k)
         {
@@ -233,6 +222,12 @@ int vtkRadianceReconstructor::RequestData(
       else
       {
         cells.Triangles.push_back({ pts[0], pts[1], pts[2] });
+        if (residuals)
+        {
+          std::array<double, 3> r;
+          residuals->GetTuple(cellId, r.data());
+          cells.Residuals.push_back(r);
+        }
       }
     }
   };

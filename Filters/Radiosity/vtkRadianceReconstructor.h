@@ -8,10 +8,10 @@
  * `DiscontinuityOrder` (and `SourceId`) marking the discontinuities, as
  * produced by vtkDiscontinuityMesher followed by vtkRadianceEvaluator.
  * Points along order-0 lines must be duplicated (one copy per side).
- * Optional vertex cells with `SurfaceId` are probes: points where the true
- * radiance is known (point data `Radiance`) but which are not samples; the
- * adaptive sampling of vtkRadianceEvaluator emits them, and their residuals
- * feed the error estimate.
+ * The optional cell array `SamplingResidual` (3 components, from the
+ * adaptive sampling of vtkRadianceEvaluator: the largest |true -
+ * interpolated| radiance seen at each triangle's last probes) feeds the
+ * error estimate.
  *
  * For each surface the radiance is reconstructed with a C1 piecewise cubic
  * (Clough–Tocher) inside each smooth region, vertex gradients fitted by
@@ -26,7 +26,7 @@
  * TargetEdgeLength), cell data `SurfaceId`; point data `Radiance` (active
  * scalars; displaying it linearly interpolated is the reconstruction) and
  * `RadianceErrorEstimate` (3 components, same units: an estimate of the
- * reconstruction error at each point, from the probes' residuals and the
+ * reconstruction error at each point, from the sampling residuals and the
  * difference between the cubic and a wider cubic model); the input lines
  * carried through as polylines of output points with their
  * `DiscontinuityOrder` and `SourceId`.

@@ -53,15 +53,27 @@ def test_samples_are_reproduced_exactly():
     exact_filter = penumbra.vtkRadianceEvaluator()
     exact_filter.SetInputData(0, probe)
     exact_filter.SetSceneConnection(source.GetOutputPort())
+    exact_filter.AdaptiveSamplingOff()  # evaluate at the output points as they are
     exact = vtk_to_numpy(penumbra.run_filter(exact_filter).GetPointData().GetArray("Radiance"))
     reconstructed = vtk_to_numpy(out.GetPointData().GetArray("Radiance"))
     output_points = vtk_to_numpy(out.GetPoints().GetData())
     sample_points = vtk_to_numpy(evaluator.GetOutput().GetPoints().GetData())
+    # Samples on boundary lines are evaluated 1e-9 of the surface's size inside
+    # their own side (so that each side of a contact gets its own value); the
+    # exact value on the line itself differs by about gradient * 1e-9 * size.
+    lines = vtk_to_numpy(out.GetLines().GetData())
+    on_lines = set()
+    position = 0
+    while position < len(lines):
+        count = lines[position]
+        on_lines.update(lines[position + 1:position + 1 + count].tolist())
+        position += count + 1
     matched = 0
     for p in sample_points:
         at = np.nonzero(np.all(np.abs(output_points - p) < 1e-12, axis=1))[0]
         for k in at:
-            assert reconstructed[k] == pytest.approx(exact[k], rel=1e-12, abs=1e-14)
+            tolerance = 1e-6 if k in on_lines else 1e-12
+            assert reconstructed[k] == pytest.approx(exact[k], rel=tolerance, abs=1e-14)
             matched += 1
     assert matched >= len(sample_points)
 

@@ -6,7 +6,7 @@ defaults and returns the result vtkPolyData (design contract: triangles with
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 
-def build_pipeline(scene_port, minimum_angle=20.0, subdivision_level=4):
+def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2):
     """The filters of the pipeline, connected after `scene_port` (an algorithm
     output port producing a scene). Returns them in order as a dict."""
     import penumbra
@@ -23,7 +23,7 @@ def build_pipeline(scene_port, minimum_angle=20.0, subdivision_level=4):
     return {"mesher": mesher, "evaluator": evaluator, "reconstructor": reconstructor}
 
 
-def solve(scene, threads=None, minimum_angle=20.0, subdivision_level=4, progress=None):
+def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, progress=None):
     """Solve `scene` (a built-in name, a .vtp/.obj path, or a scene vtkPolyData).
 
     threads: worker threads (default: all cores). progress: a callable
