@@ -143,7 +143,10 @@ Frame MakeFrame(const ReceiverMesh& mesh)
     lo = Vec3(std::min(lo.X, p.X), std::min(lo.Y, p.Y), std::min(lo.Z, p.Z));
     hi = Vec3(std::max(hi.X, p.X), std::max(hi.Y, p.Y), std::max(hi.Z, p.Z));
   }
-  f.Origin = 0.5 * (lo + hi);
+  // The box centre is off the plane of a tilted receiver: project it, or
+  // every point mapped back from the frame would lie beside the receiver.
+  const Vec3 centre = 0.5 * (lo + hi);
+  f.Origin = centre - Dot(centre - mesh.Points[mesh.Triangles[0][0]], f.N) * f.N;
   Vec3 axis = mesh.Points[mesh.Triangles[0][1]] - mesh.Points[mesh.Triangles[0][0]];
   double best = -1.0;
   for (const DiscontinuitySegment& s : mesh.Segments)

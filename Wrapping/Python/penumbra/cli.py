@@ -76,16 +76,15 @@ def _command_solve(args):
 
     start = time.time()
     bar = ProgressBar("solving", enabled=not args.quiet)
-    stage_weights = {"mesher": (0.0, 0.2), "evaluator": (0.2, 0.8), "reconstructor": (0.8, 1.0)}
+    stage_weights = {"mesher": (0.0, 0.05), "evaluator": (0.05, 0.3), "shooter": (0.3, 0.95),
+                     "reconstructor": (0.95, 1.0)}
 
     def progress(stage, fraction):
         low, high = stage_weights.get(stage, (0.0, 1.0))
         bar.update(low + (high - low) * fraction, stage)
 
-    result = penumbra.solve(args.scene, threads=args.threads, progress=progress)
-    # Direct light only until the progressive shooter lands: say so.
-    sys.stderr.write("penumbra: note: direct illumination only (the progressive "
-                     "shooter for indirect light is not built yet)\n")
+    result = penumbra.solve(args.scene, threads=args.threads, indirect=not args.direct_only,
+                            unshot_fraction=args.unshot, progress=progress)
     writer = vtkXMLPolyDataWriter()
     writer.SetFileName(args.output)
     writer.SetInputData(result)
@@ -96,6 +95,10 @@ def _command_solve(args):
     elapsed = time.time() - start
     print("wrote %s (%d triangles, %d boundary lines) in %.2f s"
           % (args.output, result.GetNumberOfPolys(), result.GetNumberOfLines(), elapsed))
+    shots = result.GetFieldData().GetArray("Shots")
+    if shots is not None:
+        print("%d shots, unshot power %.2g of the emitted power"
+              % (shots.GetValue(0), result.GetFieldData().GetArray("UnshotFraction").GetValue(0)))
     if args.png:
         from .rendering import render_png
         camera = "cornell" if args.scene == "cornell" else "auto"
@@ -138,6 +141,11 @@ def build_parser():
     solve.add_argument("--png", metavar="OUT.png", help="also render a picture of the result")
     solve.add_argument("--threads", type=_positive_int, metavar="N",
                        help="worker threads (default: all cores)")
+    solve.add_argument("--direct-only", action="store_true",
+                       help="direct light only (no progressive shooting)")
+    solve.add_argument("--unshot", type=float, default=1e-3, metavar="F",
+                       help="stop shooting when the unshot power is below F times the "
+                            "emitted power (default 1e-3)")
     solve.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     solve.set_defaults(handler=_command_solve)
 

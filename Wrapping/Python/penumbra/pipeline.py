@@ -6,7 +6,8 @@ defaults and returns the result vtkPolyData (design contract: triangles with
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 
-def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2):
+def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2, indirect=True,
+                   unshot_fraction=1e-3, exact_power_fraction=1.0):
     """The filters of the pipeline, connected after `scene_port` (an algorithm
     output port producing a scene). Returns them in order as a dict."""
     import penumbra
@@ -17,16 +18,34 @@ def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2):
     evaluator = penumbra.vtkRadianceEvaluator()
     evaluator.SetInputConnection(0, mesher.GetOutputPort())
     evaluator.SetSceneConnection(scene_port)
+    stages = {"mesher": mesher, "evaluator": evaluator}
+    last = evaluator
+    if indirect:
+        shooter = penumbra.vtkProgressiveShooter()
+        shooter.SetInputConnection(0, evaluator.GetOutputPort())
+        shooter.SetSceneConnection(scene_port)
+        shooter.SetUnshotFraction(unshot_fraction)
+        # Secondary shots by the hierarchical ray-cast method: on the Cornell
+        # box it matched the exact method's result to 0.01% of the mean at a
+        # quarter of the time (Benchmarks/compare_cornell.py).
+        shooter.SetExactPowerFraction(exact_power_fraction)
+        stages["shooter"] = shooter
+        last = shooter
     reconstructor = penumbra.vtkRadianceReconstructor()
-    reconstructor.SetInputConnection(evaluator.GetOutputPort())
+    reconstructor.SetInputConnection(last.GetOutputPort())
     reconstructor.SetSubdivisionLevel(subdivision_level)
-    return {"mesher": mesher, "evaluator": evaluator, "reconstructor": reconstructor}
+    stages["reconstructor"] = reconstructor
+    return stages
 
 
-def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, progress=None):
+def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, indirect=True,
+          unshot_fraction=1e-3, exact_power_fraction=1.0, progress=None):
     """Solve `scene` (a built-in name, a .vtp/.obj path, or a scene vtkPolyData).
 
-    threads: worker threads (default: all cores). progress: a callable
+    threads: worker threads (default: all cores). indirect: run the
+    progressive shooter for interreflections (False: direct light only);
+    unshot_fraction: stop shooting when the unshot power is below this
+    fraction of the emitted power. progress: a callable
     progress(stage_name, fraction) called as the stages run. Returns the
     result vtkPolyData; raises penumbra.PenumbraError for bad input.
     """
@@ -44,7 +63,8 @@ def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, progress=
         scene_data = penumbra.load_scene(scene)
     source = vtkTrivialProducer()
     source.SetOutput(scene_data)
-    stages = build_pipeline(source.GetOutputPort(), minimum_angle, subdivision_level)
+    stages = build_pipeline(source.GetOutputPort(), minimum_angle, subdivision_level, indirect,
+                            unshot_fraction, exact_power_fraction)
     if progress is not None:
         for name, algorithm in stages.items():
             algorithm.AddObserver(
@@ -52,4 +72,7 @@ def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, progress=
                 lambda caller, _event, name=name: progress(name, caller.GetProgress()))
     result = vtkPolyData()
     result.ShallowCopy(penumbra.run_filter(stages["reconstructor"]))
+    if "shooter" in stages:
+        # Keep the shooter's report (shots, unshot fraction, energy) with the result.
+        result.GetFieldData().PassData(stages["shooter"].GetOutput().GetFieldData())
     return result

@@ -1,0 +1,1351 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "penumbraProgressiveShooter.h"
+
+#include "penumbraExactVisibility.h"
+#include "penumbraFormFactor.h"
+#include "penumbraLinearSource.h"
+#include "penumbraOccluderCulling.h"
+#include "penumbraRayCastEvaluator.h"
+#include "penumbraShooterRadiance.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+namespace penumbra
+{
+
+namespace
+{
+
+constexpr double Pi = 3.141592653589793238462643383279502884;
+
+double Seconds(std::chrono::steady_clock::time_point since)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+std::string SurfaceName(int id)
+{
+  return "surface " + std::to_string(id);
+}
+
+bool IsFinite(const RGB& v)
+{
+  return std::isfinite(v.R) && std::isfinite(v.G) && std::isfinite(v.B);
+}
+
+RGB Difference(const RGB& a, const RGB& b)
+{
+  return { a.R - b.R, a.G - b.G, a.B - b.B };
+}
+
+/// Integral of the linear interpolant of `values` over the triangles, per channel.
+RGB IntegrateLinear(const SurfaceSamples& s, const std::vector<double>& areas,
+  const std::vector<RGB>& values)
+{
+  RGB sum;
+  for (std::size_t t = 0; t < s.Triangles.size(); ++t)
+  {
+    const std::array<int, 3>& tri = s.Triangles[t];
+    const RGB mean = (values[tri[0]] + values[tri[1]] + values[tri[2]]) * (1.0 / 3.0);
+    sum += mean * areas[t];
+  }
+  return sum;
+}
+
+/// Angle of triangle `tri` at its corner k.
+double AngleAt(const SurfaceSamples& s, const std::array<int, 3>& tri, int k)
+{
+  const Vec3 u = s.Points[tri[(k + 1) % 3]] - s.Points[tri[k]];
+  const Vec3 v = s.Points[tri[(k + 2) % 3]] - s.Points[tri[k]];
+  return std::atan2(Length(Cross(u, v)), Dot(u, v));
+}
+
+/// A symmetric 3x3 matrix (second moments).
+struct Symmetric
+{
+  double XX = 0.0, YY = 0.0, ZZ = 0.0, XY = 0.0, XZ = 0.0, YZ = 0.0;
+
+  Symmetric& operator+=(const Symmetric& o)
+  {
+    XX += o.XX;
+    YY += o.YY;
+    ZZ += o.ZZ;
+    XY += o.XY;
+    XZ += o.XZ;
+    YZ += o.YZ;
+    return *this;
+  }
+  /// Add w * a b^T + w * b a^T / 2 ... i.e. the symmetric part of w * a b^T.
+  void AddOuter(const Vec3& a, const Vec3& b, double w)
+  {
+    XX += w * a.X * b.X;
+    YY += w * a.Y * b.Y;
+    ZZ += w * a.Z * b.Z;
+    XY += 0.5 * w * (a.X * b.Y + a.Y * b.X);
+    XZ += 0.5 * w * (a.X * b.Z + a.Z * b.X);
+    YZ += 0.5 * w * (a.Y * b.Z + a.Z * b.Y);
+  }
+  /// a^T M b.
+  double Form(const Vec3& a, const Vec3& b) const
+  {
+    return a.X * (XX * b.X + XY * b.Y + XZ * b.Z) + a.Y * (XY * b.X + YY * b.Y + YZ * b.Z) +
+      a.Z * (XZ * b.X + YZ * b.Y + ZZ * b.Z);
+  }
+  double Trace() const { return XX + YY + ZZ; }
+};
+
+/// One leaf of the fast method's hierarchy: a (piece of a) shooter triangle,
+/// with the moments of its unshot radiance about the shooter's origin o.
+struct Leaf
+{
+  Vec3 Points[3];
+  RGB Values[3]; ///< unshot radiance at the points (linear in between)
+  RGB Power;     ///< integral of the unshot radiance over the triangle, per channel
+  Vec3 First[3]; ///< int L_c (y - o) dA per channel c
+  Symmetric Second[3]; ///< int L_c (y - o)(y - o)^T dA per channel c
+  double Area = 0.0;
+  Vec3 Centroid; ///< power-weighted (mean channel), area centroid as a fallback
+  double Weight = 0.0; ///< scalar power (mean of RGB)
+};
+
+/// A node of the hierarchy: an aggregate of a range of leaves, with the
+/// moments of its radiance about its centroid c (the multipole expansion).
+struct Node
+{
+  RGB Power;      ///< P_c = int L_c dA
+  Vec3 Dipole[3]; ///< D_c = int L_c (y - c) dA (zero for the mean of the channels)
+  Symmetric Quadrupole[3]; ///< M_c = int L_c (y - c)(y - c)^T dA
+  Vec3 Centroid;  ///< c, power-weighted (mean channel)
+  double Radius = 0.0; ///< largest distance from c to the node's triangles
+  int Left = -1;  ///< inner node: children (Left, Right); leaf: -1
+  int Right = -1;
+  int LeafIndex = -1; ///< leaf node: index of its leaf
+};
+
+/// Deepest split of a near leaf by the fast method (pieces 1/2^NearDepth of the leaf).
+constexpr int NearDepth = 10;
+
+/// A piece of a near leaf being refined.
+struct Piece
+{
+  Vec3 Points[3];
+  RGB Values[3];
+  int Depth;
+};
+
+/// Scratch memory of one chunk of a shot's parallel loop.
+struct ChunkWorkspace
+{
+  std::vector<int> Near;      ///< near leaves of the current sample
+  std::vector<Piece> Pieces;  ///< refinement stack of a near leaf
+  std::vector<RGB> Weights;   ///< irradiance of each piece, if visible
+  LinearSourceWorkspace Linear;
+  std::vector<int> Stack;
+  std::vector<int> Current; ///< nodes whose visibility is tested in this round
+  std::vector<int> Next;
+  std::vector<Vec3> Targets;
+  std::vector<unsigned char> Occluded;
+};
+
+/// The four midpoint children of a triangle with per-corner values (linear in between).
+void SplitTriangle(const Vec3 p[3], const RGB v[3], Vec3 cp[4][3], RGB cv[4][3])
+{
+  const Vec3 m[3] = { (p[0] + p[1]) * 0.5, (p[1] + p[2]) * 0.5, (p[2] + p[0]) * 0.5 };
+  const RGB w[3] = { (v[0] + v[1]) * 0.5, (v[1] + v[2]) * 0.5, (v[2] + v[0]) * 0.5 };
+  const Vec3 points[4][3] = { { p[0], m[0], m[2] }, { m[0], p[1], m[1] }, { m[2], m[1], p[2] },
+    { m[0], m[1], m[2] } };
+  const RGB values[4][3] = { { v[0], w[0], w[2] }, { w[0], v[1], w[1] }, { w[2], w[1], v[2] },
+    { w[0], w[1], w[2] } };
+  for (int c = 0; c < 4; ++c)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      cp[c][k] = points[c][k];
+      cv[c][k] = values[c][k];
+    }
+  }
+}
+
+/// A leaf: the triangle, its power, power-weighted centroid and moments about `origin`.
+Leaf MakeLeaf(const Vec3 p[3], const RGB v[3], const Vec3& origin)
+{
+  Leaf leaf;
+  for (int k = 0; k < 3; ++k)
+  {
+    leaf.Points[k] = p[k];
+    leaf.Values[k] = v[k];
+  }
+  leaf.Area = 0.5 * Length(Cross(p[1] - p[0], p[2] - p[0]));
+  leaf.Power = (v[0] + v[1] + v[2]) * (leaf.Area / 3.0);
+  leaf.Weight = leaf.Power.Mean();
+  // For a linear L over a triangle, int y L dA = A/12 (sum L)(sum p) + A/12 sum L_k p_k.
+  const double l[3] = { v[0].Mean(), v[1].Mean(), v[2].Mean() };
+  const double sum = l[0] + l[1] + l[2];
+  const double scale = std::abs(l[0]) + std::abs(l[1]) + std::abs(l[2]);
+  if (sum > 1e-9 * scale && sum > 0.0)
+  {
+    const Vec3 moment = (p[0] + p[1] + p[2]) * sum + p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
+    leaf.Centroid = moment / (4.0 * sum);
+  }
+  else
+  {
+    leaf.Centroid = (p[0] + p[1] + p[2]) / 3.0;
+  }
+  // Exact moments of a linear L = sum_k L_k lambda_k over the triangle, with
+  // y - o = sum_i q_i lambda_i: int lambda_i lambda_k dA = A/12 (1 + [i=k]),
+  // int lambda_i lambda_j lambda_k dA = A/60, A/30 or A/10 for 0, 2 or 3
+  // equal indices.
+  const Vec3 q[3] = { p[0] - origin, p[1] - origin, p[2] - origin };
+  for (int c = 0; c < 3; ++c)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        leaf.First[c] += q[i] * (v[k][c] * leaf.Area / 12.0 * (i == k ? 2.0 : 1.0));
+        for (int j = 0; j < 3; ++j)
+        {
+          const int equal = (i == j) + (j == k) + (i == k);
+          const double w = equal == 0 ? 1.0 / 60.0 : (equal == 1 ? 1.0 / 30.0 : 1.0 / 10.0);
+          leaf.Second[c].AddOuter(q[i], q[j], v[k][c] * leaf.Area * w);
+        }
+      }
+    }
+  }
+  return leaf;
+}
+
+/// Split a triangle with per-corner values in four until its longest edge is at most `size`.
+void SplitToLeaves(const Vec3 p[3], const RGB v[3], double size, const Vec3& origin, int depth,
+  std::vector<Leaf>& out)
+{
+  const double longest = std::max(
+    { SquaredLength(p[1] - p[0]), SquaredLength(p[2] - p[1]), SquaredLength(p[0] - p[2]) });
+  if (longest > size * size && depth < 12)
+  {
+    Vec3 cp[4][3];
+    RGB cv[4][3];
+    SplitTriangle(p, v, cp, cv);
+    for (int c = 0; c < 4; ++c)
+    {
+      SplitToLeaves(cp[c], cv[c], size, origin, depth + 1, out);
+    }
+    return;
+  }
+  out.push_back(MakeLeaf(p, v, origin));
+}
+
+/**
+ * The node of `count` leaves (power, centroid, radius, moments about the
+ * centroid) from their moments about `origin`. Children are not set.
+ */
+Node Aggregate(const Leaf* const* leaves, int count, const Vec3& origin)
+{
+  Node node;
+  double weight = 0.0;
+  double absWeight = 0.0;
+  double area = 0.0;
+  Vec3 weighted;
+  Vec3 areaWeighted;
+  Vec3 firstMoment[3];
+  Symmetric secondMoment[3];
+  for (int k = 0; k < count; ++k)
+  {
+    const Leaf& leaf = *leaves[k];
+    node.Power += leaf.Power;
+    area += leaf.Area;
+    for (int c = 0; c < 3; ++c)
+    {
+      firstMoment[c] += leaf.First[c];
+      secondMoment[c] += leaf.Second[c];
+    }
+    weight += leaf.Weight;
+    absWeight += std::abs(leaf.Weight);
+    weighted += leaf.Centroid * leaf.Weight;
+    areaWeighted += leaf.Centroid * leaf.Area;
+  }
+  // Power-weighted centroid; the area centroid when the power nearly cancels.
+  node.Centroid =
+    (weight > 1e-9 * absWeight && weight > 0.0) ? weighted / weight : areaWeighted / area;
+  // Moments about the centroid: with e = c - o, D = S1 - P e and
+  // M = S2 - (e S1^T + S1 e^T) + P e e^T.
+  const Vec3 e = node.Centroid - origin;
+  for (int c = 0; c < 3; ++c)
+  {
+    node.Dipole[c] = firstMoment[c] - e * node.Power[c];
+    node.Quadrupole[c] = secondMoment[c];
+    node.Quadrupole[c].AddOuter(e, firstMoment[c], -2.0);
+    node.Quadrupole[c].AddOuter(e, e, node.Power[c]);
+  }
+  for (int k = 0; k < count; ++k)
+  {
+    for (const Vec3& p : leaves[k]->Points)
+    {
+      node.Radius = std::max(node.Radius, SquaredLength(p - node.Centroid));
+    }
+  }
+  node.Radius = std::sqrt(node.Radius);
+  return node;
+}
+
+} // namespace
+
+void ProgressiveShooterSettings::Validate() const
+{
+  const auto fail = [](const std::string& what) {
+    throw InputError("progressive shooter: " + what);
+  };
+  if (!(this->UnshotFraction >= 0.0 && this->UnshotFraction <= 1.0))
+  {
+    fail("UnshotFraction must be in [0, 1], got " + std::to_string(this->UnshotFraction));
+  }
+  if (this->MaximumShots < 0)
+  {
+    fail("MaximumShots must be >= 0, got " + std::to_string(this->MaximumShots));
+  }
+  if (!(this->ExactPowerFraction >= 0.0))
+  {
+    fail("ExactPowerFraction must be in [0, inf], got " + std::to_string(this->ExactPowerFraction));
+  }
+  if (!(this->OpeningAngle > 0.0 && this->OpeningAngle <= 2.0))
+  {
+    fail("OpeningAngle must be in (0, 2], got " + std::to_string(this->OpeningAngle));
+  }
+  if (!(this->LeafSize > 0.0 && this->LeafSize <= 1.0))
+  {
+    fail("LeafSize must be in (0, 1], got " + std::to_string(this->LeafSize));
+  }
+  if (!(this->BoundaryOffset >= 0.0 && this->BoundaryOffset <= 1e-2))
+  {
+    fail("BoundaryOffset must be in [0, 1e-2], got " + std::to_string(this->BoundaryOffset));
+  }
+  if (!(this->RayOriginOffset >= 0.0 && this->RayOriginOffset <= 1e-2))
+  {
+    fail("RayOriginOffset must be in [0, 1e-2], got " + std::to_string(this->RayOriginOffset));
+  }
+}
+
+struct ProgressiveShooter::Internal
+{
+  explicit Internal(const Scene& scene)
+    : Exact(scene)
+    , SceneCopy(scene)
+  {
+    const std::size_t n = scene.Surfaces.size();
+    this->Samples.resize(n);
+    this->EvaluationPoints.resize(n);
+    this->RayOrigins.resize(n);
+    this->Areas.resize(n);
+    this->UnshotPower.resize(n);
+    this->Emitted = scene.EmittedPower();
+  }
+
+  /// Everything one shot needs about its shooter, built once per shot.
+  struct Shot
+  {
+    int Shooter = -1;
+    ShotMethod Method = ShotMethod::Exact;
+    Vec3 Normal;   ///< shooter's front normal
+    double Offset = 0.0; ///< shooter's plane: Dot(Normal, p) == Offset
+    bool Empty = true;   ///< no triangle carries unshot radiance
+    ShooterRadiance Radiance; ///< exact method: the triangles with unshot radiance
+    std::vector<Leaf> Leaves; ///< fast method: the pieces of the shooter
+    std::vector<Node> Nodes;  ///< fast method: the hierarchy (root = 0)
+  };
+
+  const OccluderSet& Occluders() const { return this->Exact.GetOccluders(); }
+
+  const RayCaster& Caster()
+  {
+    if (!this->Rays)
+    {
+      this->Rays.reset(new RayCaster(this->SceneCopy));
+    }
+    return *this->Rays;
+  }
+
+  void PrepareShot(int j, ShotMethod method, Shot& shot) const;
+  int BuildNode(const std::vector<Leaf>& leaves, std::vector<int>& order, int first, int count,
+    const Vec3& origin, std::vector<Node>& nodes) const;
+  RGB Evaluate(const Shot& shot, const Vec3& x, const Vec3& origin, const Vec3& n, int receiver,
+    const std::vector<int>* candidates, const RayCaster* caster, ChunkWorkspace& ws,
+    long long& rays) const;
+  void EnsureEnergy();
+  void UpdateEvaluationPoints(int surfaceId);
+  RGB NodeIrradiance(const Shot& shot, const Node& node, const Vec3& x, const Vec3& n) const;
+  ShootingEnergy InitialEnergy() const;
+
+  ExactEvaluator Exact;
+  Scene SceneCopy;
+  std::unique_ptr<RayCaster> Rays;
+  ProgressiveShooterSettings Settings;
+  ParallelFor Loop;
+  std::vector<SurfaceSamples> Samples;
+  std::vector<std::vector<Vec3>> EvaluationPoints;
+  std::vector<std::vector<Vec3>> RayOrigins; ///< fast method: where visibility rays start
+  std::vector<std::vector<double>> Areas;
+  std::vector<RGB> UnshotPower;
+  RGB Emitted;
+  bool EnergyValid = false;
+  ShootingEnergy Energy;
+  double Reference = 0.0;
+};
+
+void ProgressiveShooter::Internal::PrepareShot(int j, ShotMethod method, Shot& shot) const
+{
+  const PreparedPolygon& poly = this->Occluders().GetPolygon(j);
+  const SurfaceSamples& s = this->Samples[j];
+  shot.Shooter = j;
+  shot.Method = method;
+  shot.Normal = poly.Normal;
+  shot.Offset = poly.Offset;
+  shot.Empty = true;
+  shot.Nodes.clear();
+  // Triangles that carry unshot radiance and have an area (the others add nothing).
+  Vec3 lo = s.Points.empty() ? Vec3() : s.Points[0];
+  Vec3 hi = lo;
+  for (const Vec3& p : s.Points)
+  {
+    lo = { std::min(lo.X, p.X), std::min(lo.Y, p.Y), std::min(lo.Z, p.Z) };
+    hi = { std::max(hi.X, p.X), std::max(hi.Y, p.Y), std::max(hi.Z, p.Z) };
+  }
+  const double diagonal = Length(hi - lo);
+  std::vector<std::array<int, 3>> kept;
+  for (std::size_t t = 0; t < s.Triangles.size(); ++t)
+  {
+    const std::array<int, 3>& tri = s.Triangles[t];
+    if (s.Unshot[tri[0]].IsZero() && s.Unshot[tri[1]].IsZero() && s.Unshot[tri[2]].IsZero())
+    {
+      continue;
+    }
+    if (!(this->Areas[j][t] > 2e-12 * diagonal * diagonal))
+    {
+      continue;
+    }
+    kept.push_back(tri);
+  }
+  if (kept.empty())
+  {
+    return;
+  }
+  shot.Empty = false;
+  // Points projected onto the shooter's plane exactly (input points may be
+  // off it by rounding), so that the integrals are over the shooter itself.
+  std::vector<Vec3> points(s.Points.size());
+  for (std::size_t k = 0; k < points.size(); ++k)
+  {
+    points[k] = s.Points[k] - poly.Normal * (Dot(poly.Normal, s.Points[k]) - poly.Offset);
+  }
+  if (method == ShotMethod::Exact)
+  {
+    // A uniform unshot radiance over the whole mesh (an emitter not shot
+    // yet) is passed as a constant: Lambert's formula, 25 times cheaper.
+    bool uniform = kept.size() == s.Triangles.size();
+    for (std::size_t k = 1; k < s.Unshot.size() && uniform; ++k)
+    {
+      uniform = s.Unshot[k].R == s.Unshot[0].R && s.Unshot[k].G == s.Unshot[0].G &&
+        s.Unshot[k].B == s.Unshot[0].B;
+    }
+    shot.Radiance = uniform ? ShooterRadiance(s.Unshot[0])
+                            : ShooterRadiance(std::move(points), std::move(kept), s.Unshot);
+    return;
+  }
+  std::vector<Leaf>& leaves = shot.Leaves;
+  leaves.clear();
+  const double size = this->Settings.LeafSize * poly.Diameter;
+  for (const std::array<int, 3>& tri : kept)
+  {
+    const Vec3 p[3] = { points[tri[0]], points[tri[1]], points[tri[2]] };
+    const RGB v[3] = { s.Unshot[tri[0]], s.Unshot[tri[1]], s.Unshot[tri[2]] };
+    SplitToLeaves(p, v, size, poly.Centroid, 0, leaves);
+  }
+  std::vector<int> order(leaves.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+  {
+    order[k] = static_cast<int>(k);
+  }
+  shot.Nodes.reserve(2 * leaves.size());
+  this->BuildNode(leaves, order, 0, static_cast<int>(leaves.size()), poly.Centroid, shot.Nodes);
+}
+
+int ProgressiveShooter::Internal::BuildNode(const std::vector<Leaf>& leaves,
+  std::vector<int>& order, int first, int count, const Vec3& origin, std::vector<Node>& nodes) const
+{
+  const int id = static_cast<int>(nodes.size());
+  nodes.emplace_back();
+  std::vector<const Leaf*> range(static_cast<std::size_t>(count));
+  Vec3 lo = leaves[order[first]].Centroid;
+  Vec3 hi = lo;
+  for (int k = 0; k < count; ++k)
+  {
+    range[k] = &leaves[order[first + k]];
+    const Vec3& c = range[k]->Centroid;
+    lo = { std::min(lo.X, c.X), std::min(lo.Y, c.Y), std::min(lo.Z, c.Z) };
+    hi = { std::max(hi.X, c.X), std::max(hi.Y, c.Y), std::max(hi.Z, c.Z) };
+  }
+  Node node = Aggregate(range.data(), count, origin);
+  if (count > 1)
+  {
+    // Median split of the leaf centroids along the longest axis (ties by
+    // leaf index: deterministic).
+    const Vec3 extent = hi - lo;
+    const int axis =
+      extent.X >= extent.Y ? (extent.X >= extent.Z ? 0 : 2) : (extent.Y >= extent.Z ? 1 : 2);
+    const int half = count / 2;
+    std::nth_element(order.begin() + first, order.begin() + first + half,
+      order.begin() + first + count, [axis, &leaves](int a, int b) {
+        const double ca = leaves[a].Centroid[axis];
+        const double cb = leaves[b].Centroid[axis];
+        return ca < cb || (ca == cb && a < b);
+      });
+    node.Left = this->BuildNode(leaves, order, first, half, origin, nodes);
+    node.Right = this->BuildNode(leaves, order, first + half, count - half, origin, nodes);
+  }
+  else
+  {
+    node.LeafIndex = order[first];
+  }
+  nodes[id] = node;
+  return id;
+}
+
+RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, const Vec3& origin,
+  const Vec3& n, int receiver, const std::vector<int>* candidates, const RayCaster* caster,
+  ChunkWorkspace& ws, long long& rays) const
+{
+  if (shot.Empty || !(Dot(shot.Normal, x) - shot.Offset > 0.0))
+  {
+    return RGB(); // x is behind the shooter, which emits from its front only
+  }
+  if (shot.Method == ShotMethod::Exact)
+  {
+    VisibleRegion& region = ws.Linear.Region;
+    if (candidates)
+    {
+      this->Exact.FormFactor(
+        x, n, receiver, shot.Shooter, *candidates, ws.Linear.Visibility, &region);
+    }
+    else
+    {
+      this->Exact.FormFactor(x, n, receiver, shot.Shooter, ws.Linear.Visibility, &region);
+    }
+    // Each visible piece intersected with each triangle that may meet it,
+    // integrated in closed form for the triangle's linear radiance.
+    return VisibleShooterIrradiance(x, n, shot.Radiance, region, shot.Normal, ws.Linear);
+  }
+  // Fast method. 1. Cut the hierarchy where nodes look small from x.
+  const double theta = this->Settings.OpeningAngle;
+  ws.Current.clear();
+  ws.Stack.clear();
+  ws.Stack.push_back(0);
+  while (!ws.Stack.empty())
+  {
+    const int id = ws.Stack.back();
+    ws.Stack.pop_back();
+    const Node& node = shot.Nodes[id];
+    const Vec3 d = node.Centroid - x;
+    if (node.Left >= 0 && node.Radius * node.Radius >= theta * theta * SquaredLength(d))
+    {
+      // Right first so that the left child is handled first (a fixed order).
+      ws.Stack.push_back(node.Right);
+      ws.Stack.push_back(node.Left);
+      continue;
+    }
+    ws.Current.push_back(id);
+  }
+  // 2. Visibility, refined where it varies: a far leaf is tested by one ray
+  // to its centroid; an inner node by one ray to each child's centroid, and
+  // if the two disagree (a shadow edge may cross it) its children are
+  // handled the same way, in the next round. Rays of a round are traced
+  // together. Near leaves (radius >= OpeningAngle * distance) go to step 3.
+  RGB sum;
+  ws.Near.clear();
+  const auto isNear = [&](const Node& node) {
+    return node.Radius * node.Radius >= theta * theta * SquaredLength(node.Centroid - x);
+  };
+  while (!ws.Current.empty())
+  {
+    ws.Targets.clear();
+    for (const int id : ws.Current)
+    {
+      const Node& node = shot.Nodes[id];
+      if (node.Left < 0)
+      {
+        if (!isNear(node))
+        {
+          ws.Targets.push_back(node.Centroid);
+        }
+      }
+      else
+      {
+        ws.Targets.push_back(shot.Nodes[node.Left].Centroid);
+        ws.Targets.push_back(shot.Nodes[node.Right].Centroid);
+      }
+    }
+    const int count = static_cast<int>(ws.Targets.size());
+    ws.Occluded.resize(ws.Targets.size());
+    if (count > 0)
+    {
+      caster->TraceFrom(
+        origin, ws.Targets.data(), count, ws.Occluded.data(), receiver, shot.Shooter);
+      rays += count;
+    }
+    ws.Next.clear();
+    int ray = 0;
+    for (const int id : ws.Current)
+    {
+      const Node& node = shot.Nodes[id];
+      if (node.Left < 0)
+      {
+        if (isNear(node))
+        {
+          ws.Near.push_back(node.LeafIndex);
+        }
+        else if (!ws.Occluded[ray++])
+        {
+          sum += this->NodeIrradiance(shot, node, x, n);
+        }
+        continue;
+      }
+      const bool left = !ws.Occluded[ray++];
+      const bool right = !ws.Occluded[ray++];
+      if (left == right)
+      {
+        if (left)
+        {
+          sum += this->NodeIrradiance(shot, node, x, n);
+        }
+        continue;
+      }
+      // Mixed: each child on its own; a visible far leaf child is done.
+      const int children[2] = { node.Left, node.Right };
+      const bool visible[2] = { left, right };
+      for (int c = 0; c < 2; ++c)
+      {
+        const Node& child = shot.Nodes[children[c]];
+        if (child.Left >= 0)
+        {
+          ws.Next.push_back(children[c]);
+        }
+        else if (isNear(child))
+        {
+          ws.Near.push_back(child.LeafIndex);
+        }
+        else if (visible[c])
+        {
+          sum += this->NodeIrradiance(shot, child, x, n);
+        }
+      }
+    }
+    std::swap(ws.Current, ws.Next);
+  }
+  // 3. Near leaves: split in four while x is within a piece's radius of its
+  // centroid (down to NearDepth levels, and not below 4 times the distance
+  // between x and the ray origin, from where finer visibility would be
+  // wrong anyway). Each piece is tested by its own ray and weighted by the
+  // expansion, or, if it still looks large (radius >= OpeningAngle *
+  // distance), by its closed-form integral over its part in front of x,
+  // the ray aimed at that part. Near the foot of x (a receiver touching the
+  // shooter's plane, a contact) the visibility then follows the geometry
+  // instead of one ray per leaf deciding for all.
+  ws.Targets.clear();
+  ws.Weights.clear();
+  const double originShift = Length(origin - x);
+  const double offset = Dot(n, x);
+  for (const int index : ws.Near)
+  {
+    const Leaf& leaf = shot.Leaves[index];
+    ws.Pieces.clear();
+    ws.Pieces.push_back({ { leaf.Points[0], leaf.Points[1], leaf.Points[2] },
+      { leaf.Values[0], leaf.Values[1], leaf.Values[2] }, 0 });
+    while (!ws.Pieces.empty())
+    {
+      const Piece piece = ws.Pieces.back();
+      ws.Pieces.pop_back();
+      const Vec3 centre = (piece.Points[0] + piece.Points[1] + piece.Points[2]) / 3.0;
+      const Leaf part = MakeLeaf(piece.Points, piece.Values, centre);
+      const Leaf* parts[1] = { &part };
+      const Node node = Aggregate(parts, 1, centre);
+      const double r2 = SquaredLength(node.Centroid - x);
+      if (node.Radius * node.Radius >= r2 && piece.Depth < NearDepth &&
+        node.Radius > 4.0 * originShift)
+      {
+        Vec3 cp[4][3];
+        RGB cv[4][3];
+        SplitTriangle(piece.Points, piece.Values, cp, cv);
+        for (int c = 3; c >= 0; --c)
+        {
+          ws.Pieces.push_back({ { cp[c][0], cp[c][1], cp[c][2] },
+            { cv[c][0], cv[c][1], cv[c][2] }, piece.Depth + 1 });
+        }
+        continue;
+      }
+      if (node.Radius * node.Radius < theta * theta * r2)
+      {
+        const RGB e = this->NodeIrradiance(shot, node, x, n);
+        if (!e.IsZero())
+        {
+          ws.Targets.push_back(node.Centroid);
+          ws.Weights.push_back(e);
+        }
+        continue;
+      }
+      Vec3 clipped[6];
+      const int count = ClipPolygonToHalfSpace(piece.Points, 3, n, offset, clipped);
+      if (count < 3)
+      {
+        continue;
+      }
+      const RGB e = LinearPolygonIrradiance(x, n, clipped, count, shot.Normal,
+        LinearRadiance::FromTriangle(piece.Points, piece.Values));
+      if (!e.IsZero())
+      {
+        Vec3 target;
+        for (int k = 0; k < count; ++k)
+        {
+          target += clipped[k];
+        }
+        ws.Targets.push_back(target / static_cast<double>(count));
+        ws.Weights.push_back(e);
+      }
+    }
+  }
+  if (!ws.Targets.empty())
+  {
+    const int count = static_cast<int>(ws.Targets.size());
+    ws.Occluded.resize(ws.Targets.size());
+    caster->TraceFrom(origin, ws.Targets.data(), count, ws.Occluded.data(), receiver, shot.Shooter);
+    rays += count;
+    for (int k = 0; k < count; ++k)
+    {
+      if (!ws.Occluded[k])
+      {
+        sum += ws.Weights[k];
+      }
+    }
+  }
+  // A non-negative radiance gives a non-negative irradiance; grazing nodes'
+  // expansions may dip below 0.
+  return { std::max(sum.R, 0.0), std::max(sum.G, 0.0), std::max(sum.B, 0.0) };
+}
+
+RGB ProgressiveShooter::Internal::NodeIrradiance(
+  const Shot& shot, const Node& node, const Vec3& x, const Vec3& n) const
+{
+  const Vec3 d = node.Centroid - x;
+  const double r2 = SquaredLength(d);
+  // Second-order multipole expansion of int L k dA about c, with the
+  // kernel k(y) = a b / s^2 (d = y - x, s = |d|^2, a = n.d, b = -m.d):
+  //   E_c = P_c k + grad k . D_c + 1/2 H : M_c,
+  //   grad k = u / s^2 - 4 a b d / s^3,  u = b n - a m,
+  //   H = -(n m^T + m n^T) / s^2 - 4 (u d^T + d u^T) / s^3 - 4 a b I / s^3
+  //       + 24 a b d d^T / s^4.
+  const double a = Dot(n, d);
+  const double b = -Dot(shot.Normal, d);
+  if (!(a > 0.0) || !(b > 0.0))
+  {
+    return RGB();
+  }
+  const Vec3 u = n * b - shot.Normal * a;
+  const double s2 = r2 * r2;
+  const double s3 = s2 * r2;
+  const double k = a * b / s2;
+  const Vec3 gradient = u / s2 - d * (4.0 * a * b / s3);
+  RGB e;
+  for (int c = 0; c < 3; ++c)
+  {
+    const Symmetric& m2 = node.Quadrupole[c];
+    const double hessian = -2.0 * m2.Form(n, shot.Normal) / s2 - 8.0 * m2.Form(u, d) / s3 -
+      4.0 * a * b * m2.Trace() / s3 + 24.0 * a * b * m2.Form(d, d) / (s2 * s2);
+    e[c] = node.Power[c] * k + Dot(gradient, node.Dipole[c]) + 0.5 * hessian;
+  }
+  return e;
+}
+
+void ProgressiveShooter::Internal::UpdateEvaluationPoints(int surfaceId)
+{
+  // Evaluation points: boundary samples moved inside (see the file comment).
+  const SurfaceSamples& samples = this->Samples[surfaceId];
+  const std::vector<double>& areas = this->Areas[surfaceId];
+  const std::size_t n = samples.Points.size();
+  std::vector<Vec3>& eval = this->EvaluationPoints[surfaceId];
+  eval = samples.Points;
+  std::vector<Vec3>& origins = this->RayOrigins[surfaceId];
+  origins = samples.Points;
+  const double rayOffset =
+    n > 0 ? this->Settings.RayOriginOffset * this->Occluders().GetPolygon(surfaceId).Diameter : 0.0;
+  const double offset =
+    n > 0 ? this->Settings.BoundaryOffset * this->Occluders().GetPolygon(surfaceId).Diameter : 0.0;
+  if (offset > 0.0 || rayOffset > 0.0)
+  {
+    std::vector<std::pair<int, int>> edges;
+    edges.reserve(3 * samples.Triangles.size());
+    for (const std::array<int, 3>& tri : samples.Triangles)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const int a = tri[k];
+        const int b = tri[(k + 1) % 3];
+        edges.emplace_back(std::min(a, b), std::max(a, b));
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    std::vector<char> boundary(n, 0);
+    for (std::size_t e = 0; e < edges.size();)
+    {
+      std::size_t f = e + 1;
+      while (f < edges.size() && edges[f] == edges[e])
+      {
+        ++f;
+      }
+      if (f - e == 1)
+      {
+        boundary[edges[e].first] = 1;
+        boundary[edges[e].second] = 1;
+      }
+      e = f;
+    }
+    // Incident triangles of every point (CSR), degenerate ones left out.
+    std::vector<int> start(n + 1, 0);
+    for (std::size_t t = 0; t < samples.Triangles.size(); ++t)
+    {
+      for (int k = 0; k < 3 && areas[t] > 0.0; ++k)
+      {
+        ++start[samples.Triangles[t][k] + 1];
+      }
+    }
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      start[k + 1] += start[k];
+    }
+    std::vector<int> incident(static_cast<std::size_t>(start[n]));
+    std::vector<int> corner(incident.size());
+    {
+      std::vector<int> fill(start.begin(), start.end() - 1);
+      for (std::size_t t = 0; t < samples.Triangles.size(); ++t)
+      {
+        for (int k = 0; k < 3 && areas[t] > 0.0; ++k)
+        {
+          const int slot = fill[samples.Triangles[t][k]]++;
+          incident[slot] = static_cast<int>(t);
+          corner[slot] = k;
+        }
+      }
+    }
+    // Target of a boundary point: the centroid of its incident triangle with
+    // the largest angle there; on a tie (within 1e-9) the mean of the tied
+    // centroids, so that the rule does not depend on the triangles' order
+    // (mirror-symmetric meshes give mirror-symmetric points), unless that
+    // mean lies outside every incident corner (a reflex fan): then the first.
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      if (!boundary[k] || start[k] == start[k + 1])
+      {
+        continue;
+      }
+      const Vec3& p = samples.Points[k];
+      double largest = -1.0;
+      for (int slot = start[k]; slot < start[k + 1]; ++slot)
+      {
+        largest =
+          std::max(largest, AngleAt(samples, samples.Triangles[incident[slot]], corner[slot]));
+      }
+      Vec3 sum;
+      Vec3 first;
+      int ties = 0;
+      for (int slot = start[k]; slot < start[k + 1]; ++slot)
+      {
+        const std::array<int, 3>& tri = samples.Triangles[incident[slot]];
+        if (AngleAt(samples, tri, corner[slot]) >= largest * (1.0 - 1e-9))
+        {
+          const Vec3 centroid =
+            (samples.Points[tri[0]] + samples.Points[tri[1]] + samples.Points[tri[2]]) / 3.0;
+          first = ties == 0 ? centroid : first;
+          sum += centroid;
+          ++ties;
+        }
+      }
+      Vec3 target = sum / static_cast<double>(ties);
+      if (ties > 1)
+      {
+        bool inside = false;
+        for (int slot = start[k]; slot < start[k + 1] && !inside; ++slot)
+        {
+          // Inside the corner at p: d = alpha u + beta v with alpha, beta >= 0.
+          const std::array<int, 3>& tri = samples.Triangles[incident[slot]];
+          const Vec3 u = samples.Points[tri[(corner[slot] + 1) % 3]] - p;
+          const Vec3 v = samples.Points[tri[(corner[slot] + 2) % 3]] - p;
+          const Vec3 d = target - p;
+          const Vec3 normal = Cross(u, v);
+          inside = Dot(Cross(d, v), normal) >= 0.0 && Dot(Cross(u, d), normal) >= 0.0;
+        }
+        target = inside ? target : first;
+      }
+      const Vec3 d = target - p;
+      const double length = Length(d);
+      if (length > 0.0)
+      {
+        eval[k] = p + d * std::min(0.5, offset / length);
+        origins[k] = p + d * std::min(0.5, rayOffset / length);
+      }
+    }
+  }
+}
+
+ShootingEnergy ProgressiveShooter::Internal::InitialEnergy() const
+{
+  ShootingEnergy e;
+  e.Emitted = this->Emitted;
+  for (std::size_t i = 0; i < this->Samples.size(); ++i)
+  {
+    const SurfaceSamples& s = this->Samples[i];
+    if (s.Triangles.empty())
+    {
+      continue;
+    }
+    e.InitialUnshot += this->UnshotPower[i];
+    // Reflected radiance received so far (direct light): Total - L^e.
+    const Surface& surface = this->SceneCopy.Surfaces[i];
+    std::vector<RGB> reflected(s.Total.size());
+    for (std::size_t k = 0; k < reflected.size(); ++k)
+    {
+      reflected[k] = Difference(s.Total[k], surface.Emission);
+    }
+    const RGB power = IntegrateLinear(s, this->Areas[i], reflected) * Pi;
+    for (int c = 0; c < 3; ++c)
+    {
+      const double rho = surface.Reflectance[c];
+      if (rho > 0.0)
+      {
+        e.PriorAbsorbed[c] += (1.0 - rho) / rho * power[c];
+      }
+    }
+  }
+  e.PriorEscaped = Difference(Difference(e.Emitted, e.InitialUnshot), e.PriorAbsorbed);
+  e.Unshot = e.InitialUnshot;
+  return e;
+}
+
+void ProgressiveShooter::Internal::EnsureEnergy()
+{
+  if (!this->EnergyValid)
+  {
+    this->Energy = this->InitialEnergy();
+    this->Reference =
+      this->Emitted.Mean() > 0.0 ? this->Emitted.Mean() : this->Energy.InitialUnshot.Mean();
+    this->EnergyValid = true;
+  }
+}
+
+ProgressiveShooter::ProgressiveShooter(const Scene& scene)
+  : P(new Internal(scene))
+{
+}
+
+ProgressiveShooter::~ProgressiveShooter() = default;
+
+int ProgressiveShooter::GetNumberOfSurfaces() const
+{
+  return static_cast<int>(this->P->Samples.size());
+}
+
+void ProgressiveShooter::SetSettings(const ProgressiveShooterSettings& settings)
+{
+  settings.Validate();
+  const bool moved = settings.BoundaryOffset != this->P->Settings.BoundaryOffset ||
+    settings.RayOriginOffset != this->P->Settings.RayOriginOffset;
+  this->P->Settings = settings;
+  if (moved)
+  {
+    for (int i = 0; i < this->GetNumberOfSurfaces(); ++i)
+    {
+      this->P->UpdateEvaluationPoints(i);
+    }
+  }
+}
+
+const ProgressiveShooterSettings& ProgressiveShooter::GetSettings() const
+{
+  return this->P->Settings;
+}
+
+void ProgressiveShooter::SetParallelFor(ParallelFor parallelFor)
+{
+  this->P->Loop = std::move(parallelFor);
+}
+
+void ProgressiveShooter::SetSurfaceSamples(int surfaceId, SurfaceSamples samples)
+{
+  Internal& I = *this->P;
+  if (surfaceId < 0 || surfaceId >= this->GetNumberOfSurfaces())
+  {
+    throw InputError("progressive shooter: surface id " + std::to_string(surfaceId) +
+      " out of range [0, " + std::to_string(this->GetNumberOfSurfaces()) + ")");
+  }
+  const std::string where = "progressive shooter: " + SurfaceName(surfaceId) + ": ";
+  const std::size_t n = samples.Points.size();
+  if (samples.Total.size() != n || samples.Unshot.size() != n)
+  {
+    throw InputError(where + std::to_string(n) + " points but " +
+      std::to_string(samples.Total.size()) + " total and " + std::to_string(samples.Unshot.size()) +
+      " unshot values");
+  }
+  if (!samples.Triangles.empty() || n > 0)
+  {
+    const PreparedPolygon& poly = I.Occluders().GetPolygon(surfaceId);
+    if (!poly.Valid)
+    {
+      throw InputError(where + "the scene polygon is degenerate and cannot take samples");
+    }
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      const Vec3& p = samples.Points[k];
+      if (!IsFinite(p))
+      {
+        throw InputError(where + "point " + std::to_string(k) + " has non-finite coordinates");
+      }
+      if (!IsFinite(samples.Total[k]) || !IsFinite(samples.Unshot[k]))
+      {
+        throw InputError(where + "point " + std::to_string(k) + " has a non-finite radiance");
+      }
+      if (std::abs(Dot(poly.Normal, p) - poly.Offset) > 1e-6 * poly.Diameter)
+      {
+        throw InputError(where + "point " + std::to_string(k) + " lies off the surface's plane");
+      }
+    }
+    for (std::size_t t = 0; t < samples.Triangles.size(); ++t)
+    {
+      for (const int id : samples.Triangles[t])
+      {
+        if (id < 0 || static_cast<std::size_t>(id) >= n)
+        {
+          throw InputError(where + "triangle " + std::to_string(t) + " refers to point " +
+            std::to_string(id) + ", out of range [0, " + std::to_string(n) + ")");
+        }
+      }
+    }
+  }
+  // Triangle areas.
+  std::vector<double>& areas = I.Areas[surfaceId];
+  areas.resize(samples.Triangles.size());
+  for (std::size_t t = 0; t < samples.Triangles.size(); ++t)
+  {
+    const std::array<int, 3>& tri = samples.Triangles[t];
+    const Vec3& a = samples.Points[tri[0]];
+    areas[t] = 0.5 * Length(Cross(samples.Points[tri[1]] - a, samples.Points[tri[2]] - a));
+  }
+  I.Samples[surfaceId] = std::move(samples);
+  I.UpdateEvaluationPoints(surfaceId);
+  const SurfaceSamples& s = I.Samples[surfaceId];
+  I.UnshotPower[surfaceId] = IntegrateLinear(s, areas, s.Unshot) * Pi;
+  I.EnergyValid = false;
+}
+
+const SurfaceSamples& ProgressiveShooter::GetSurfaceSamples(int surfaceId) const
+{
+  return this->P->Samples.at(static_cast<std::size_t>(surfaceId));
+}
+
+const std::vector<Vec3>& ProgressiveShooter::GetEvaluationPoints(int surfaceId) const
+{
+  return this->P->EvaluationPoints.at(static_cast<std::size_t>(surfaceId));
+}
+
+RGB ProgressiveShooter::GetUnshotPower(int surfaceId) const
+{
+  return this->P->UnshotPower.at(static_cast<std::size_t>(surfaceId));
+}
+
+RGB ProgressiveShooter::GetTotalUnshotPower() const
+{
+  RGB sum;
+  for (const RGB& p : this->P->UnshotPower)
+  {
+    sum += p;
+  }
+  return sum;
+}
+
+int ProgressiveShooter::SelectShooter() const
+{
+  int best = -1;
+  double bestPower = 0.0;
+  for (int i = 0; i < this->GetNumberOfSurfaces(); ++i)
+  {
+    const double power = this->P->UnshotPower[i].Mean();
+    if (power > bestPower)
+    {
+      best = i;
+      bestPower = power;
+    }
+  }
+  return best;
+}
+
+double ProgressiveShooter::GetReferencePower() const
+{
+  if (this->P->EnergyValid)
+  {
+    return this->P->Reference;
+  }
+  const double emitted = this->P->Emitted.Mean();
+  return emitted > 0.0 ? emitted : this->GetTotalUnshotPower().Mean();
+}
+
+ShotMethod ProgressiveShooter::ChooseMethod(double power) const
+{
+  const double fraction = this->P->Settings.ExactPowerFraction;
+  if (std::isinf(fraction))
+  {
+    return ShotMethod::Fast;
+  }
+  return power >= fraction * this->GetReferencePower() ? ShotMethod::Exact : ShotMethod::Fast;
+}
+
+ShootingEnergy ProgressiveShooter::GetEnergy() const
+{
+  return this->P->EnergyValid ? this->P->Energy : this->P->InitialEnergy();
+}
+
+std::vector<RGB> ProgressiveShooter::ComputeIrradiance(int shooterId, ShotMethod method,
+  const Vec3* points, std::size_t count, const Vec3& normal, int receiverId) const
+{
+  Internal& I = *this->P;
+  if (shooterId < 0 || shooterId >= this->GetNumberOfSurfaces())
+  {
+    throw InputError("progressive shooter: shooter id " + std::to_string(shooterId) +
+      " out of range [0, " + std::to_string(this->GetNumberOfSurfaces()) + ")");
+  }
+  if (receiverId < -1 || receiverId >= this->GetNumberOfSurfaces())
+  {
+    throw InputError("progressive shooter: receiver id " + std::to_string(receiverId) +
+      " out of range [-1, " + std::to_string(this->GetNumberOfSurfaces()) + ")");
+  }
+  std::vector<RGB> result(count);
+  if (I.Samples[shooterId].Triangles.empty() || receiverId == shooterId)
+  {
+    return result;
+  }
+  Internal::Shot shot;
+  I.PrepareShot(shooterId, method, shot);
+  std::vector<int> candidates;
+  const std::vector<int>* list = nullptr;
+  if (receiverId >= 0 && method == ShotMethod::Exact)
+  {
+    if (!I.Exact.ShaftCandidates(shooterId, receiverId, candidates))
+    {
+      return result;
+    }
+    list = &candidates;
+  }
+  const RayCaster* caster = method == ShotMethod::Fast ? &I.Caster() : nullptr;
+  ChunkWorkspace ws;
+  long long rays = 0;
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    result[k] = I.Evaluate(shot, points[k], points[k], normal, receiverId, list, caster, ws, rays);
+  }
+  return result;
+}
+
+ShotRecord ProgressiveShooter::Shoot(int shooterId, ShotMethod method)
+{
+  Internal& I = *this->P;
+  if (shooterId < 0 || shooterId >= this->GetNumberOfSurfaces())
+  {
+    throw InputError("progressive shooter: shooter id " + std::to_string(shooterId) +
+      " out of range [0, " + std::to_string(this->GetNumberOfSurfaces()) + ")");
+  }
+  I.EnsureEnergy();
+  const auto start = std::chrono::steady_clock::now();
+  ShotRecord record;
+  record.Shooter = shooterId;
+  record.Method = method;
+  SurfaceSamples& shooter = I.Samples[shooterId];
+  record.Power = I.UnshotPower[shooterId];
+  if (!shooter.Triangles.empty())
+  {
+    Internal::Shot shot;
+    I.PrepareShot(shooterId, method, shot);
+
+    // Receivers that can exchange light with the shooter, their shaft
+    // candidates, and one work item per sample.
+    struct Receiver
+    {
+      int Id;
+      std::size_t First; ///< first work item
+      std::vector<int> Candidates;
+    };
+    std::vector<Receiver> receivers;
+    std::size_t items = 0;
+    if (!shot.Empty)
+    {
+      std::vector<int> candidates;
+      for (int i = 0; i < this->GetNumberOfSurfaces(); ++i)
+      {
+        if (i == shooterId || I.Samples[i].Points.empty())
+        {
+          continue;
+        }
+        if (!I.Exact.ShaftCandidates(shooterId, i, candidates))
+        {
+          continue;
+        }
+        receivers.push_back({ i, items, candidates });
+        items += I.Samples[i].Points.size();
+      }
+    }
+    record.Receivers = static_cast<int>(receivers.size());
+    record.Samples = static_cast<long long>(items);
+    std::vector<RGB> irradiance(items);
+    std::vector<long long> rays(method == ShotMethod::Fast ? items : 0);
+    if (items > 0)
+    {
+      const RayCaster* caster = method == ShotMethod::Fast ? &I.Caster() : nullptr;
+      // Work item -> receiver by binary search on First.
+      const auto body = [&](std::size_t begin, std::size_t end) {
+        ChunkWorkspace ws;
+        std::size_t r = static_cast<std::size_t>(
+          std::upper_bound(receivers.begin(), receivers.end(), begin,
+            [](std::size_t item, const Receiver& rec) { return item < rec.First; }) -
+          receivers.begin() - 1);
+        for (std::size_t item = begin; item < end; ++item)
+        {
+          while (r + 1 < receivers.size() && item >= receivers[r + 1].First)
+          {
+            ++r;
+          }
+          const Receiver& rec = receivers[r];
+          const std::size_t k = item - rec.First;
+          const Vec3& normal = I.Occluders().GetPolygon(rec.Id).Normal;
+          long long count = 0;
+          irradiance[item] = I.Evaluate(shot, I.EvaluationPoints[rec.Id][k],
+            I.RayOrigins[rec.Id][k], normal, rec.Id,
+            &rec.Candidates, caster, ws, count);
+          if (!rays.empty())
+          {
+            rays[item] = count;
+          }
+        }
+      };
+      if (I.Loop)
+      {
+        I.Loop(0, items, body);
+      }
+      else
+      {
+        body(0, items);
+      }
+    }
+    // Fixed-order updates and sums.
+    for (const Receiver& rec : receivers)
+    {
+      SurfaceSamples& s = I.Samples[rec.Id];
+      const RGB rho = I.SceneCopy.Surfaces[rec.Id].Reflectance;
+      const std::vector<RGB> e(irradiance.begin() + static_cast<std::ptrdiff_t>(rec.First),
+        irradiance.begin() + static_cast<std::ptrdiff_t>(rec.First + s.Points.size()));
+      const RGB incident = IntegrateLinear(s, I.Areas[rec.Id], e);
+      record.Incident += incident;
+      record.Absorbed += RGB(1.0 - rho.R, 1.0 - rho.G, 1.0 - rho.B) * incident;
+      const RGB factor = rho * (1.0 / Pi);
+      for (std::size_t k = 0; k < e.size(); ++k)
+      {
+        const RGB dl = factor * e[k];
+        s.Total[k] += dl;
+        s.Unshot[k] += dl;
+      }
+      I.UnshotPower[rec.Id] = IntegrateLinear(s, I.Areas[rec.Id], s.Unshot) * Pi;
+    }
+    for (const long long count : rays)
+    {
+      record.Rays += count;
+    }
+    std::fill(shooter.Unshot.begin(), shooter.Unshot.end(), RGB());
+    I.UnshotPower[shooterId] = RGB();
+  }
+  record.Escaped = Difference(record.Power, record.Incident);
+  I.Energy.ShotAbsorbed += record.Absorbed;
+  I.Energy.ShotEscaped += record.Escaped;
+  I.Energy.Unshot = this->GetTotalUnshotPower();
+  record.UnshotAfter = I.Energy.Unshot.Mean();
+  record.Seconds = Seconds(start);
+  return record;
+}
+
+ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
+{
+  Internal& I = *this->P;
+  I.EnsureEnergy();
+  const auto start = std::chrono::steady_clock::now();
+  ShootingSummary summary;
+  summary.ReferencePower = I.Reference;
+  const double initial = this->GetTotalUnshotPower().Mean();
+  const double target = I.Settings.UnshotFraction * I.Reference;
+  while (true)
+  {
+    const double unshot = this->GetTotalUnshotPower().Mean();
+    if (unshot <= target)
+    {
+      summary.Reason = StopReason::Converged;
+      break;
+    }
+    if (summary.Shots >= I.Settings.MaximumShots)
+    {
+      summary.Reason = StopReason::MaximumShots;
+      break;
+    }
+    const int j = this->SelectShooter();
+    if (j < 0)
+    {
+      summary.Reason = StopReason::NothingToShoot;
+      break;
+    }
+    const ShotMethod method = this->ChooseMethod(I.UnshotPower[j].Mean());
+    ShotRecord record = this->Shoot(j, method);
+    ++summary.Shots;
+    if (method == ShotMethod::Exact)
+    {
+      ++summary.ExactShots;
+      summary.ExactSeconds += record.Seconds;
+    }
+    else
+    {
+      ++summary.FastShots;
+      summary.FastSeconds += record.Seconds;
+    }
+    summary.History.push_back(record);
+    if (callback)
+    {
+      double progress;
+      if (target > 0.0 && initial > target)
+      {
+        progress = std::log(std::max(record.UnshotAfter, target) / initial) /
+          std::log(target / initial);
+      }
+      else
+      {
+        progress = I.Settings.MaximumShots > 0
+          ? static_cast<double>(summary.Shots) / I.Settings.MaximumShots
+          : 1.0;
+      }
+      progress = std::min(1.0, std::max(0.0, progress));
+      if (!callback(record, progress))
+      {
+        summary.Reason = StopReason::Aborted;
+        break;
+      }
+    }
+  }
+  summary.Energy = I.Energy;
+  summary.UnshotFraction =
+    I.Reference > 0.0 ? this->GetTotalUnshotPower().Mean() / I.Reference : 0.0;
+  summary.Seconds = Seconds(start);
+  return summary;
+}
+
+} // namespace penumbra

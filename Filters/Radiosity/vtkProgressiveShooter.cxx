@@ -1,0 +1,222 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkProgressiveShooter.h"
+
+#include "vtkPenumbraSceneConversion.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkSMPTools.h"
+
+#include "penumbraProgressiveShooter.h"
+
+#include <algorithm>
+#include <memory>
+#include <sstream>
+#include <unordered_map>
+
+vtkStandardNewMacro(vtkProgressiveShooter);
+
+vtkProgressiveShooter::vtkProgressiveShooter()
+{
+  this->SetNumberOfInputPorts(2);
+}
+
+int vtkProgressiveShooter::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  return 1;
+}
+
+namespace
+{
+void AddField(vtkFieldData* fieldData, const char* name, const double* values, int count)
+{
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name);
+  array->SetNumberOfComponents(count);
+  array->InsertNextTuple(values);
+  fieldData->AddArray(array);
+}
+
+void AddField(vtkFieldData* fieldData, const char* name, double value)
+{
+  AddField(fieldData, name, &value, 1);
+}
+
+void AddField(vtkFieldData* fieldData, const char* name, const penumbra::RGB& value)
+{
+  const double rgb[3] = { value.R, value.G, value.B };
+  AddField(fieldData, name, rgb, 3);
+}
+}
+
+int vtkProgressiveShooter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* samples = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* sceneData = vtkPolyData::GetData(inputVector[1]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->ShallowCopy(samples);
+  if (samples->GetNumberOfPolys() == 0)
+  {
+    return 1;
+  }
+  vtkDataArray* radiance = samples->GetPointData()->GetArray("Radiance");
+  vtkDataArray* surfaceIds = samples->GetCellData()->GetArray("SurfaceId");
+  if (!radiance || radiance->GetNumberOfComponents() != 3 || !surfaceIds)
+  {
+    output->Initialize();
+    vtkErrorMacro(<< "the samples need a 3-component point array 'Radiance' (the direct "
+                     "solution of vtkRadianceEvaluator) and a cell array 'SurfaceId'");
+    return 0;
+  }
+
+  penumbra::ProgressiveShooterSettings settings;
+  settings.UnshotFraction = this->UnshotFraction;
+  settings.MaximumShots = this->MaximumShots;
+  settings.ExactPowerFraction = this->ExactPowerFraction;
+  settings.OpeningAngle = this->OpeningAngle;
+
+  // Per surface: its samples in local numbering; global ids to write back.
+  std::unordered_map<int, penumbra::SurfaceSamples> bySurface;
+  std::unordered_map<int, std::unordered_map<vtkIdType, int>> local;
+  std::unordered_map<int, std::vector<vtkIdType>> global;
+  std::unique_ptr<penumbra::ProgressiveShooter> shooter;
+  try
+  {
+    const penumbra::Scene scene = penumbra::SceneFromPolyData(sceneData);
+    penumbra::ValidateScene(scene);
+    const int numberOfSurfaces = static_cast<int>(scene.Surfaces.size());
+    auto localId = [&](int surface, vtkIdType id) {
+      auto& map = local[surface];
+      auto found = map.find(id);
+      if (found != map.end())
+      {
+        return found->second;
+      }
+      penumbra::SurfaceSamples& s = bySurface[surface];
+      double p[3], value[3];
+      samples->GetPoint(id, p);
+      radiance->GetTuple(id, value);
+      const penumbra::RGB total(value[0], value[1], value[2]);
+      const penumbra::RGB& emission = scene.Surfaces[surface].Emission;
+      s.Points.emplace_back(p[0], p[1], p[2]);
+      s.Total.push_back(total);
+      // The evaluator has shot every emitter: what is left to shoot is the
+      // reflected part of the radiance.
+      s.Unshot.emplace_back(std::max(0.0, total.R - emission.R),
+        std::max(0.0, total.G - emission.G), std::max(0.0, total.B - emission.B));
+      global[surface].push_back(id);
+      const int k = static_cast<int>(s.Points.size()) - 1;
+      map.emplace(id, k);
+      return k;
+    };
+    vtkIdType cellId = 0;
+    auto visit = [&](vtkCellArray* cells) {
+      auto it = vtk::TakeSmartPointer(cells->NewIterator());
+      vtkIdType npts;
+      const vtkIdType* pts;
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+      {
+        it->GetCurrentCell(npts, pts);
+        const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
+        if (surface < 0 || surface >= numberOfSurfaces)
+        {
+          std::ostringstream os;
+          os << "cell " << cellId << " has SurfaceId " << surface << ", not a scene cell";
+          throw penumbra::InputError(os.str());
+        }
+        if (npts != 3)
+        {
+          throw penumbra::InputError(
+            "cell " + std::to_string(cellId) + " is not a triangle; the samples must be triangles");
+        }
+        bySurface[surface].Triangles.push_back(
+          { localId(surface, pts[0]), localId(surface, pts[1]), localId(surface, pts[2]) });
+      }
+    };
+    cellId += samples->GetNumberOfVerts() + samples->GetNumberOfLines();
+    visit(samples->GetPolys());
+
+    shooter.reset(new penumbra::ProgressiveShooter(scene));
+    shooter->SetSettings(settings);
+    shooter->SetParallelFor(
+      [](std::size_t begin, std::size_t end, const std::function<void(std::size_t, std::size_t)>& body) {
+        vtkSMPTools::For(static_cast<vtkIdType>(begin), static_cast<vtkIdType>(end),
+          [&body](vtkIdType first, vtkIdType last) {
+            body(static_cast<std::size_t>(first), static_cast<std::size_t>(last));
+          });
+      });
+    for (auto& entry : bySurface)
+    {
+      shooter->SetSurfaceSamples(entry.first, std::move(entry.second));
+    }
+  }
+  catch (const penumbra::InputError& e)
+  {
+    output->Initialize();
+    vtkErrorMacro(<< e.what());
+    return 0;
+  }
+
+  this->UpdateProgress(0.0);
+  const penumbra::ShootingSummary summary =
+    shooter->Run([this](const penumbra::ShotRecord&, double progress) {
+      this->UpdateProgress(progress);
+      return !this->GetAbortExecute();
+    });
+
+  vtkNew<vtkDoubleArray> total;
+  total->DeepCopy(radiance);
+  total->SetName("Radiance");
+  for (const auto& entry : global)
+  {
+    const penumbra::SurfaceSamples& s = shooter->GetSurfaceSamples(entry.first);
+    for (std::size_t k = 0; k < entry.second.size(); ++k)
+    {
+      total->SetTuple3(entry.second[k], s.Total[k].R, s.Total[k].G, s.Total[k].B);
+    }
+  }
+  output->GetPointData()->AddArray(total);
+  output->GetPointData()->SetActiveScalars("Radiance");
+
+  vtkFieldData* fieldData = output->GetFieldData();
+  AddField(fieldData, "Shots", summary.Shots);
+  AddField(fieldData, "ExactShots", summary.ExactShots);
+  AddField(fieldData, "FastShots", summary.FastShots);
+  AddField(fieldData, "UnshotFraction", summary.UnshotFraction);
+  AddField(fieldData, "EmittedPower", summary.Energy.Emitted);
+  AddField(fieldData, "AbsorbedPower", summary.Energy.Absorbed());
+  AddField(fieldData, "EscapedPower", summary.Energy.Escaped());
+  AddField(fieldData, "UnshotPower", summary.Energy.Unshot);
+  AddField(fieldData, "ShootingSeconds", summary.Seconds);
+  vtkNew<vtkIntArray> order;
+  order->SetName("ShotOrder");
+  for (const penumbra::ShotRecord& shot : summary.History)
+  {
+    order->InsertNextValue(shot.Shooter);
+  }
+  fieldData->AddArray(order);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkProgressiveShooter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "UnshotFraction: " << this->UnshotFraction << "\n";
+  os << indent << "MaximumShots: " << this->MaximumShots << "\n";
+  os << indent << "ExactPowerFraction: " << this->ExactPowerFraction << "\n";
+  os << indent << "OpeningAngle: " << this->OpeningAngle << "\n";
+}

@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkProgressiveShooter
+ * @brief   Global illumination by progressive shooting of radiance functions (paper §3).
+ *
+ * Input port 0: the sample mesh with the direct solution, as produced by
+ * vtkRadianceEvaluator with its default shooters (every emitter): triangles
+ * with cell data `SurfaceId`, point data `Radiance` = emission + direct
+ * light. Input port 1: the scene.
+ *
+ * Each surface's total and unshot radiance are piecewise-linear functions
+ * over its samples; the unshot radiance starts as the reflected direct light
+ * (Radiance minus the surface's Emission). Each shot picks the surface with
+ * the largest unshot power pi * integral of its unshot radiance (ranked by
+ * the mean of the RGB channels), adds its contribution at every sample of
+ * every surface that sees it, and zeroes its unshot radiance. Shooters are
+ * non-uniform and integrated as such: shots carrying at least
+ * ExactPowerFraction of the emitted power exactly (visible region of the
+ * shooter, closed-form integral of the linear radiance over each of its
+ * triangles), weaker shots by a hierarchy of the shooter with one
+ * occlusion ray per node (OpeningAngle). Shooting stops when the unshot
+ * power falls below UnshotFraction of the emitted power, or at
+ * MaximumShots. Samples are not added during shooting: every shot is
+ * evaluated at every existing sample.
+ *
+ * Output: the input with `Radiance` = the total radiance (active scalars)
+ * and field data: `Shots`, `ExactShots`, `FastShots`, `UnshotFraction`
+ * (remaining unshot power / emitted power), `EmittedPower`, `AbsorbedPower`,
+ * `EscapedPower` (RGB, watts: power that left an open scene or was lost to
+ * discretisation), `UnshotPower`, `ShootingSeconds`, `ShotOrder` (the
+ * shooters in order). Progress is reported per shot and abort is honoured
+ * between shots.
+ *
+ * @sa vtkRadianceEvaluator vtkRadianceReconstructor
+ */
+#ifndef vtkProgressiveShooter_h
+#define vtkProgressiveShooter_h
+
+#include "vtkPenumbraFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class VTKPENUMBRAFILTERS_EXPORT vtkProgressiveShooter : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkProgressiveShooter* New();
+  vtkTypeMacro(vtkProgressiveShooter, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Stop when the unshot power is at most this fraction of the emitted
+   * power. Default 1e-3, range [0, 1].
+   */
+  vtkSetClampMacro(UnshotFraction, double, 0.0, 1.0);
+  vtkGetMacro(UnshotFraction, double);
+  ///@}
+
+  ///@{
+  /**
+   * Stop after this many shots. Default 10000, range [0, 100000000].
+   */
+  vtkSetClampMacro(MaximumShots, int, 0, 100000000);
+  vtkGetMacro(MaximumShots, int);
+  ///@}
+
+  ///@{
+  /**
+   * Shots whose power is at least this fraction of the emitted power are
+   * integrated exactly; weaker ones by the hierarchical ray-cast method.
+   * Default 0.05, range [0, 1] (0: every shot exact; 1: only shots as
+   * strong as all the emission).
+   */
+  vtkSetClampMacro(ExactPowerFraction, double, 0.0, 1.0);
+  vtkGetMacro(ExactPowerFraction, double);
+  ///@}
+
+  ///@{
+  /**
+   * Hierarchical ray-cast method: a node of the shooter is used as one
+   * point source when its radius over its distance is below this. Smaller is
+   * more accurate and slower. Default 0.3, range [0.01, 2].
+   */
+  vtkSetClampMacro(OpeningAngle, double, 0.01, 2.0);
+  vtkGetMacro(OpeningAngle, double);
+  ///@}
+
+  /**
+   * Connect the scene (input port 1).
+   */
+  void SetSceneConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
+  void SetSceneData(vtkDataObject* scene) { this->SetInputData(1, scene); }
+
+protected:
+  vtkProgressiveShooter();
+  ~vtkProgressiveShooter() override = default;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double UnshotFraction = 1e-3;
+  int MaximumShots = 10000;
+  double ExactPowerFraction = 0.05;
+  double OpeningAngle = 0.3;
+
+private:
+  vtkProgressiveShooter(const vtkProgressiveShooter&) = delete;
+  void operator=(const vtkProgressiveShooter&) = delete;
+};
+
+#endif
