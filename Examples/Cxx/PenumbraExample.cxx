@@ -21,6 +21,7 @@ int main(int argc, char* argv[])
   validator->SetInputConnection(scene->GetOutputPort());
   vtkNew<vtkXMLPolyDataWriter> writer;
   writer->SetInputConnection(validator->GetOutputPort());
+  writer->SetDataModeToBinary(); // inline data: what every ParaView reads
   writer->SetFileName(argv[1]);
   if (!writer->Write())
   {

@@ -25,6 +25,7 @@ reconstructor.SetInputConnection(evaluator.GetOutputPort())
 
 writer = vtkXMLPolyDataWriter()
 writer.SetInputConnection(reconstructor.GetOutputPort())
+writer.SetDataModeToBinary()  # inline data: what every ParaView reads
 writer.SetFileName(sys.argv[2] if len(sys.argv) > 2 else "out.vtp")
 writer.Write()
 print("wrote", writer.GetFileName())

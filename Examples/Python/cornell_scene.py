@@ -17,6 +17,7 @@ validator.SetInputConnection(source.GetOutputPort())
 
 writer = vtkXMLPolyDataWriter()
 writer.SetInputConnection(validator.GetOutputPort())
+writer.SetDataModeToBinary()  # inline data: what every ParaView reads
 writer.SetFileName(sys.argv[1] if len(sys.argv) > 1 else "cornell.vtp")
 writer.Write()
 print("wrote", writer.GetFileName(), "with",

@@ -74,6 +74,7 @@ def test_pvbatch_colors_a_scene_by_reflectance(tmp_path):
     writer = vtkXMLPolyDataWriter()
     writer.SetFileName(str(vtp))
     writer.SetInputData(penumbra.load_scene("cornell"))
+    writer.SetDataModeToBinary()
     assert writer.Write()
     arrays, colors = _pvbatch_color(tmp_path, vtp, "Reflectance")
     assert "Reflectance" in arrays and "Emission" in arrays

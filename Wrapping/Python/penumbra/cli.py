@@ -88,7 +88,9 @@ def _command_solve(args):
     writer = vtkXMLPolyDataWriter()
     writer.SetFileName(args.output)
     writer.SetInputData(result)
-    writer.SetDataModeToAppended()
+    # Inline (not appended) data: Debian 12's expat security update makes
+    # ParaView 5.11 reject large appended sections.
+    writer.SetDataModeToBinary()
     writer.SetCompressorTypeToZLib()
     if not writer.Write():
         return _fail("could not write %s" % args.output)
