@@ -510,8 +510,7 @@ bool vtkRadianceEvaluator::SampleAdaptively(vtkPolyData* samples, vtkPolyData* o
     penumbra::AdaptiveSamplingResult result;
     try
     {
-      result = penumbra::SampleReceiver(
-        entry.second,
+      const penumbra::RadianceBatchFunction evaluate =
         [&](const penumbra::Vec3* x, int count, penumbra::RGB* values) {
           vtkSMPTools::For(0, count, [&](vtkIdType first, vtkIdType last) {
             for (vtkIdType k = first; k < last; ++k)
@@ -519,8 +518,20 @@ bool vtkRadianceEvaluator::SampleAdaptively(vtkPolyData* samples, vtkPolyData* o
               values[k] = evaluatePoint(surface, x[k]);
             }
           });
-        },
-        settings);
+        };
+      result = penumbra::SampleReceiver(entry.second, evaluate, settings);
+      // A surface the shooters leave smooth (or dark) keeps its few initial
+      // samples, but light arriving later (interreflection) needs room to
+      // vary there: without shadow lines to keep, sample it on a uniform grid.
+      const bool hasShadowLines = std::any_of(entry.second.Segments.begin(),
+        entry.second.Segments.end(), [](const penumbra::DiscontinuitySegment& segment) {
+          return segment.Order >= 1;
+        });
+      if (!hasShadowLines && result.Statistics.Samples < this->MinimumSamplesPerSurface)
+      {
+        result = penumbra::SampleReceiverUniform(
+          entry.second, this->MinimumSamplesPerSurface, evaluate, settings);
+      }
     }
     catch (const penumbra::InputError& e)
     {
@@ -613,6 +624,7 @@ void vtkRadianceEvaluator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AdaptiveSampling: " << (this->AdaptiveSampling ? "On" : "Off") << "\n";
   os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
   os << indent << "MaximumSamplesPerSurface: " << this->MaximumSamplesPerSurface << "\n";
+  os << indent << "MinimumSamplesPerSurface: " << this->MinimumSamplesPerSurface << "\n";
   os << indent << "MinimumFeatureSize: " << this->MinimumFeatureSize << "\n";
   os << indent << "IncludeEmission: " << (this->IncludeEmission ? "On" : "Off") << "\n";
   os << indent << "ShooterIds:";

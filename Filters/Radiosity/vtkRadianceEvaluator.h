@@ -131,6 +131,18 @@ public:
 
   ///@{
   /**
+   * A surface without shadow lines that adaptive sampling leaves with fewer
+   * samples than this (a dark or evenly lit surface) is sampled on a uniform
+   * grid of about this many points instead, so that light arriving later by
+   * interreflection (vtkProgressiveShooter) has samples to land on. Default
+   * 256, range [3, 100000000].
+   */
+  vtkSetClampMacro(MinimumSamplesPerSurface, int, 3, 100000000);
+  vtkGetMacro(MinimumSamplesPerSurface, int);
+  ///@}
+
+  ///@{
+  /**
    * Triangles narrower than this fraction of their surface's diameter are
    * not refined (features no finite sampling resolves, such as penumbrae
    * shrinking to a point at a contact corner). Default 1e-4, range [0, 1].
@@ -192,6 +204,7 @@ protected:
   bool AdaptiveSampling = true;
   double SamplingTolerance = 0.002;
   int MaximumSamplesPerSurface = 200000;
+  int MinimumSamplesPerSurface = 256;
   double MinimumFeatureSize = 1e-4;
   std::vector<vtkIdType> ShooterIds;
 

@@ -31,7 +31,8 @@ def field(result, name):
 
 def test_furnace_converges_to_closed_form_and_balances_energy():
     rho, le = 0.5, 1.0
-    result = penumbra.solve(furnace(rho, le), unshot_fraction=1e-6)
+    # The strong first shots exact (as the filter's default), the rest fast.
+    result = penumbra.solve(furnace(rho, le), unshot_fraction=1e-6, exact_power_fraction=0.05)
     radiance = vtk_to_numpy(result.GetPointData().GetArray("Radiance"))
     expected = le / (1 - rho)
     worst = np.abs(radiance / expected - 1).max()
@@ -86,3 +87,23 @@ def test_missing_radiance_is_an_error():
     shooter.SetSceneConnection(source.GetOutputPort())
     with pytest.raises(penumbra.PenumbraError, match="'Radiance'"):
         penumbra.run_filter(shooter)
+
+
+def test_closed_cornell_box_loses_little_light():
+    """The Cornell box with a white front wall is closed: what the bookkeeping
+    calls escaped is only discretisation loss. (It was 13.6% while unlit
+    surfaces such as the ceiling kept their 4 corner samples.)"""
+    from vtkmodules.vtkCommonCore import vtkPoints
+    scene = penumbra.load_scene("cornell")
+    closed = type(scene)()
+    closed.DeepCopy(scene)
+    points = closed.GetPoints()
+    front = [points.InsertNextPoint(p) for p in
+             ((0, 0, 0), (0.5528, 0, 0), (0.556, 0.5488, 0), (0, 0.5488, 0))]
+    closed.GetPolys().InsertNextCell(4, front)
+    closed.GetCellData().GetArray("Reflectance").InsertNextTuple3(0.725, 0.71, 0.68)
+    closed.GetCellData().GetArray("Emission").InsertNextTuple3(0, 0, 0)
+    result = penumbra.solve(closed, subdivision_level=1)
+    escaped = field(result, "EscapedPower") / field(result, "EmittedPower")
+    print("closed Cornell box: escaped / emitted =", escaped)
+    assert escaped.max() < 0.02
