@@ -191,28 +191,7 @@ int vtkDiscontinuityMesher::RequestData(
   output->SetLines(lines);
   output->SetPolys(polys);
 
-  // Cell data runs over the lines first, then the polygons.
-  const std::size_t numberOfLines = lineOrder.size();
-  const std::size_t numberOfPolys = polySurface.size();
-  auto makeArray = [&](const char* name, const std::vector<int>& lineValues,
-                     const std::vector<int>* polyValues, int polyDefault) {
-    vtkNew<vtkIntArray> array;
-    array->SetName(name);
-    array->SetNumberOfTuples(static_cast<vtkIdType>(numberOfLines + numberOfPolys));
-    for (std::size_t k = 0; k < numberOfLines; ++k)
-    {
-      array->SetValue(static_cast<vtkIdType>(k), lineValues[k]);
-    }
-    for (std::size_t k = 0; k < numberOfPolys; ++k)
-    {
-      array->SetValue(static_cast<vtkIdType>(numberOfLines + k),
-        polyValues ? (*polyValues)[k] : polyDefault);
-    }
-    output->GetCellData()->AddArray(array);
-  };
-  makeArray("SurfaceId", lineSurface, &polySurface, 0);
-  makeArray("DiscontinuityOrder", lineOrder, nullptr, -2);
-  makeArray("SourceId", lineSource, nullptr, -1);
+  penumbra::AddMeshCellArrays(output, lineSurface, lineOrder, lineSource, polySurface);
   output->GetPointData()->AddArray(pointSurface);
 
   vtkFieldData* fieldData = output->GetFieldData();

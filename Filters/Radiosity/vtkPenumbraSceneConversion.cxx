@@ -7,6 +7,7 @@
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -98,6 +99,31 @@ Scene SceneFromPolyData(vtkPolyData* input)
     s.Emission = RGB(c[0], c[1], c[2]);
   }
   return scene;
+}
+
+void AddMeshCellArrays(vtkPolyData* output, const std::vector<int>& lineSurface,
+  const std::vector<int>& lineOrder, const std::vector<int>& lineSource,
+  const std::vector<int>& triangleSurface)
+{
+  auto add = [&](const char* name, const std::vector<int>& lineValues,
+               const std::vector<int>* triangleValues, int triangleDefault) {
+    vtkNew<vtkIntArray> array;
+    array->SetName(name);
+    array->SetNumberOfTuples(static_cast<vtkIdType>(lineValues.size() + triangleSurface.size()));
+    vtkIdType k = 0;
+    for (int v : lineValues)
+    {
+      array->SetValue(k++, v);
+    }
+    for (std::size_t t = 0; t < triangleSurface.size(); ++t)
+    {
+      array->SetValue(k++, triangleValues ? (*triangleValues)[t] : triangleDefault);
+    }
+    output->GetCellData()->AddArray(array);
+  };
+  add("SurfaceId", lineSurface, &triangleSurface, 0);
+  add("DiscontinuityOrder", lineOrder, nullptr, -2);
+  add("SourceId", lineSource, nullptr, -1);
 }
 
 void SceneToPolyData(const Scene& scene, vtkPolyData* output)

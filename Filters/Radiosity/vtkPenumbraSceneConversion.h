@@ -10,6 +10,7 @@
 #include "penumbraScene.h"
 
 #include <string>
+#include <vector>
 
 class vtkPolyData;
 
@@ -22,6 +23,16 @@ namespace penumbra
  * geometry; call ValidateScene for that.
  */
 Scene SceneFromPolyData(vtkPolyData* input);
+
+/**
+ * Add the design contract's cell arrays to a mesh whose cells are lines
+ * followed by triangles: `SurfaceId` (lines: their surface; triangles:
+ * theirs), `DiscontinuityOrder` (lines: their order; triangles: -2, not an
+ * edge) and `SourceId` (lines: their shooter; triangles: -1).
+ */
+void AddMeshCellArrays(vtkPolyData* output, const std::vector<int>& lineSurface,
+  const std::vector<int>& lineOrder, const std::vector<int>& lineSource,
+  const std::vector<int>& triangleSurface);
 
 /// Write a scene as polydata: one polygon per surface, cell arrays
 /// `Reflectance` and `Emission` (double, 3 components).

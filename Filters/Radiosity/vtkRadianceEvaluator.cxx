@@ -583,23 +583,7 @@ bool vtkRadianceEvaluator::SampleAdaptively(vtkPolyData* samples, vtkPolyData* o
   output->GetPointData()->AddArray(radiance);
   output->GetPointData()->SetActiveScalars("Radiance");
   output->GetPointData()->AddArray(pointSurface);
-  auto addCellArray = [&](const char* name, const std::vector<int>& lineValues,
-                        const std::vector<int>* polyValues, int polyDefault) {
-    vtkNew<vtkIntArray> array;
-    array->SetName(name);
-    for (int v : lineValues)
-    {
-      array->InsertNextValue(v);
-    }
-    for (std::size_t t = 0; t < polySurface.size(); ++t)
-    {
-      array->InsertNextValue(polyValues ? (*polyValues)[t] : polyDefault);
-    }
-    output->GetCellData()->AddArray(array);
-  };
-  addCellArray("SurfaceId", lineSurface, &polySurface, 0);
-  addCellArray("DiscontinuityOrder", lineOrder, nullptr, -2);
-  addCellArray("SourceId", lineSource, nullptr, -1);
+  penumbra::AddMeshCellArrays(output, lineSurface, lineOrder, lineSource, polySurface);
   for (std::size_t k = 0; k < lineSurface.size(); ++k)
   {
     residual->InsertNextTuple3(0.0, 0.0, 0.0);

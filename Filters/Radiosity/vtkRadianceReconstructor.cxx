@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkRadianceReconstructor.h"
 
+#include "vtkPenumbraSceneConversion.h"
+
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
@@ -340,24 +342,7 @@ int vtkRadianceReconstructor::RequestData(
   {
     output->GetPointData()->AddArray(outError);
   }
-  // Cell data: lines first, then triangles (-2 / -1: not edges).
-  auto addCellArray = [&](const char* name, const std::vector<int>& lineValues,
-                        const std::vector<int>* polyValues, int polyDefault) {
-    vtkNew<vtkIntArray> array;
-    array->SetName(name);
-    for (int v : lineValues)
-    {
-      array->InsertNextValue(v);
-    }
-    for (std::size_t t = 0; t < polySurface.size(); ++t)
-    {
-      array->InsertNextValue(polyValues ? (*polyValues)[t] : polyDefault);
-    }
-    output->GetCellData()->AddArray(array);
-  };
-  addCellArray("SurfaceId", lineSurface, &polySurface, 0);
-  addCellArray("DiscontinuityOrder", lineOrder, nullptr, -2);
-  addCellArray("SourceId", lineSource, nullptr, -1);
+  penumbra::AddMeshCellArrays(output, lineSurface, lineOrder, lineSource, polySurface);
   this->UpdateProgress(1.0);
   return 1;
 }

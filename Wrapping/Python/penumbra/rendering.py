@@ -58,19 +58,25 @@ def render_png(vtp_path, png_path, camera="auto", size=(512, 512), exposure=None
                           % (result.stderr.strip().splitlines() or ["(no message)"])[-1])
 
 
-def radiance_to_colors(radiance, exposure=None):
+def radiance_to_colors(radiance, exposure=None, weights=None):
     """Display colors (uint8 RGB) for an (n, 3) radiance array.
 
     Linear radiance is divided by `exposure` (default: the 99th percentile of
-    the channel maxima, so highlights do not wash out the picture), clipped to
-    [0, 1] and encoded with the sRGB transfer curve.
+    the channel maxima, weighted by `weights` -- e.g. the area each point
+    stands for, so that densely sampled lights do not set the exposure --
+    so highlights do not wash out the picture), clipped to [0, 1] and
+    encoded with the sRGB transfer curve.
     """
     import numpy as np
 
     radiance = np.asarray(radiance, dtype=float).reshape(-1, 3)
     if exposure is None:
         peaks = radiance.max(axis=1) if len(radiance) else np.zeros(1)
-        exposure = float(np.percentile(peaks, 99)) if len(peaks) else 1.0
+        w = np.ones(len(peaks)) if weights is None else np.asarray(weights, dtype=float)
+        order = np.argsort(peaks)
+        cumulative = np.cumsum(w[order])
+        exposure = float(peaks[order][np.searchsorted(cumulative, 0.99 * cumulative[-1])]) \
+            if len(peaks) and cumulative[-1] > 0 else 1.0
     exposure = exposure if exposure > 0 else 1.0
     x = np.clip(radiance / exposure, 0.0, 1.0)
     srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
@@ -99,7 +105,8 @@ def make_render_window(data, camera="auto", size=(512, 512), exposure=None):
     radiance = data.GetPointData().GetArray("Radiance")
     if radiance is not None:
         # View-independent radiance is the picture: show it unlit.
-        colors = numpy_to_vtk(radiance_to_colors(vtk_to_numpy(radiance), exposure), deep=1)
+        colors = numpy_to_vtk(radiance_to_colors(vtk_to_numpy(radiance), exposure,
+                                                 _point_areas(data)), deep=1)
         colors.SetName("DisplayColor")
         shaded.GetPointData().AddArray(colors)
         mapper.SetScalarModeToUsePointFieldData()
@@ -143,6 +150,25 @@ def make_render_window(data, camera="auto", size=(512, 512), exposure=None):
         view.Zoom(1.2)
     window._penumbra_keep = (shaded, mapper, actor, renderer)  # keep the pipeline alive
     return window
+
+
+def _point_areas(data):
+    """The area each point stands for: a third of its triangles' areas."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    points = vtk_to_numpy(data.GetPoints().GetData())
+    areas = np.zeros(len(points))
+    polys = vtk_to_numpy(data.GetPolys().GetData())
+    if len(polys) and len(polys) % 4 == 0 and (polys[::4] == 3).all():
+        triangles = polys.reshape(-1, 4)[:, 1:]
+        a, b, c = (points[triangles[:, k]] for k in range(3))
+        area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+        for k in range(3):
+            np.add.at(areas, triangles[:, k], area / 3.0)
+    else:
+        areas[:] = 1.0
+    return areas
 
 
 def _render_here(vtp_path, png_path, camera, size, exposure):
