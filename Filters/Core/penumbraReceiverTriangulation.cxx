@@ -33,6 +33,42 @@ inline int Cw(int i)
   return (i + 2) % 3;
 }
 
+/// Give copy `point` of vertex `v` to the sector of kept faces around v that
+/// contains `f`: rotate clockwise to the sector's start (a cut edge, the hull
+/// or an unkept face; all the way round when nothing separates), then sweep
+/// counter-clockwise assigning the point until the sector ends.
+template <typename Triangulation, typename Face, typename VertexHandle, typename IsCut>
+void AssignSector(
+  const Triangulation& cdt, Face f, VertexHandle v, int point, const IsCut& isCut)
+{
+  Face first = f;
+  for (;;)
+  {
+    // The face clockwise around v shares the edge opposite cw(j).
+    const int edge = Cw(first->index(v));
+    Face prev = first->neighbor(edge);
+    if (isCut(first, edge) || cdt.is_infinite(prev) || !prev->info().Kept || prev == f)
+    {
+      break;
+    }
+    first = prev;
+  }
+  Face g = first;
+  for (;;)
+  {
+    const int j = g->index(v);
+    g->info().Point[j] = point;
+    const int edge = Ccw(j);
+    Face next = g->neighbor(edge);
+    if (isCut(g, edge) || cdt.is_infinite(next) || !next->info().Kept ||
+      next->info().Point[next->index(v)] >= 0)
+    {
+      break;
+    }
+    g = next;
+  }
+}
+
 /// Label of a constrained edge: merged from every input constraint through it.
 struct EdgeLabel
 {
@@ -308,38 +344,10 @@ struct Stage
         }
         VertexHandle v = f->vertex(i);
         const int geometric = vertexOf(v);
-        // Rotate clockwise from f to the start of its sector (or all the way
-        // round when nothing separates).
-        Face first = f;
-        for (;;)
-        {
-          // The face clockwise around v shares the edge opposite cw(j).
-          const int edge = Cw(first->index(v));
-          Face prev = first->neighbor(edge);
-          if (isCut(first, edge) || cdt.is_infinite(prev) || !prev->info().Kept || prev == f)
-          {
-            break;
-          }
-          first = prev;
-        }
         const int point = static_cast<int>(mesh.Points.size());
         mesh.Points.push_back(vertex3[geometric]);
         mesh.PointVertex.push_back(geometric);
-        // Sweep counter-clockwise from the sector start, assigning the point.
-        Face g = first;
-        for (;;)
-        {
-          const int j = g->index(v);
-          g->info().Point[j] = point;
-          const int edge = Ccw(j);
-          Face next = g->neighbor(edge);
-          if (isCut(g, edge) || cdt.is_infinite(next) || !next->info().Kept ||
-            next->info().Point[next->index(v)] >= 0)
-          {
-            break;
-          }
-          g = next;
-        }
+        AssignSector(cdt, f, v, point, isCut);
       }
     }
 
@@ -833,33 +841,9 @@ void RefinableTriangulation::Extract(RefinableSnapshot& out)
         continue;
       }
       VertexHandle v = f->vertex(i);
-      Face first = f;
-      for (;;)
-      {
-        const int edge = Cw(first->index(v));
-        Face prev = first->neighbor(edge);
-        if (isCut(first, edge) || cdt.is_infinite(prev) || !prev->info().Kept || prev == f)
-        {
-          break;
-        }
-        first = prev;
-      }
       const int point = static_cast<int>(out.PointVertex.size());
       out.PointVertex.push_back(v->info().Id);
-      Face g = first;
-      for (;;)
-      {
-        const int j = g->index(v);
-        g->info().Point[j] = point;
-        const int edge = Ccw(j);
-        Face next = g->neighbor(edge);
-        if (isCut(g, edge) || cdt.is_infinite(next) || !next->info().Kept ||
-          next->info().Point[next->index(v)] >= 0)
-        {
-          break;
-        }
-        g = next;
-      }
+      AssignSector(cdt, f, v, point, isCut);
     }
   }
 
