@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -208,6 +209,232 @@ vtkIdType vtkRadianceEvaluator::GetShooterId(vtkIdType index) const
   return index >= 0 && index < this->GetNumberOfShooterIds() ? this->ShooterIds[index] : -1;
 }
 
+namespace
+{
+/// The adaptive-sampling path of RequestData (see the class description);
+/// false after an error.
+bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyData* output,
+  const std::function<penumbra::RGB(int, const penumbra::Vec3&)>& evaluatePoint)
+{
+  vtkDataArray* surfaceIds = samples->GetCellData()->GetArray("SurfaceId");
+  vtkDataArray* orders = samples->GetCellData()->GetArray("DiscontinuityOrder");
+  vtkDataArray* sources = samples->GetCellData()->GetArray("SourceId");
+  if (!surfaceIds)
+  {
+    output->Initialize();
+    vtkErrorWithObjectMacro(self, << "adaptive sampling needs the cell array 'SurfaceId' on the triangles");
+    return false;
+  }
+
+  // Rebuild each surface's mesh (mesher layout) from the triangles and lines.
+  std::map<int, penumbra::ReceiverMesh> meshes;
+  std::map<int, std::unordered_map<vtkIdType, int>> localIds;
+  std::map<int, std::map<std::array<double, 3>, int>> vertexIds;
+  auto localId = [&](int surface, vtkIdType id) {
+    auto& ids = localIds[surface];
+    auto found = ids.find(id);
+    if (found != ids.end())
+    {
+      return found->second;
+    }
+    penumbra::ReceiverMesh& mesh = meshes[surface];
+    double p[3];
+    samples->GetPoint(id, p);
+    auto& vertices = vertexIds[surface];
+    const auto vertex = vertices.emplace(std::array<double, 3>{ p[0], p[1], p[2] },
+      static_cast<int>(vertices.size()));
+    mesh.Points.emplace_back(p[0], p[1], p[2]);
+    mesh.PointVertex.push_back(vertex.first->second);
+    const int k = static_cast<int>(mesh.Points.size()) - 1;
+    ids.emplace(id, k);
+    return k;
+  };
+  vtkIdType cellId = samples->GetNumberOfVerts();
+  std::vector<std::array<vtkIdType, 2>> lines;
+  std::vector<vtkIdType> lineCells;
+  {
+    auto it = vtk::TakeSmartPointer(samples->GetLines()->NewIterator());
+    vtkIdType npts;
+    const vtkIdType* pts;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+    {
+      it->GetCurrentCell(npts, pts);
+      for (vtkIdType k = 0; k + 1 < npts; ++k)
+      {
+        lines.push_back({ pts[k], pts[k + 1] });
+        lineCells.push_back(cellId);
+      }
+    }
+  }
+  {
+    auto it = vtk::TakeSmartPointer(samples->GetPolys()->NewIterator());
+    vtkIdType npts;
+    const vtkIdType* pts;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+    {
+      it->GetCurrentCell(npts, pts);
+      if (npts != 3)
+      {
+        output->Initialize();
+        vtkErrorWithObjectMacro(self, << "cell " << cellId << " is not a triangle; adaptive sampling needs a "
+                      << "triangle mesh (vtkDiscontinuityMesher's output)");
+        return false;
+      }
+      const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
+      const int a = localId(surface, pts[0]), b = localId(surface, pts[1]),
+                c = localId(surface, pts[2]);
+      meshes[surface].ReceiverId = surface;
+      meshes[surface].Triangles.push_back({ a, b, c });
+    }
+  }
+  for (std::size_t k = 0; k < lines.size(); ++k)
+  {
+    const int surface = static_cast<int>(surfaceIds->GetComponent(lineCells[k], 0));
+    auto ids = localIds.find(surface);
+    if (ids == localIds.end())
+    {
+      continue;
+    }
+    auto a = ids->second.find(lines[k][0]);
+    auto b = ids->second.find(lines[k][1]);
+    if (a == ids->second.end() || b == ids->second.end())
+    {
+      continue;
+    }
+    penumbra::DiscontinuitySegment segment;
+    penumbra::ReceiverMesh& mesh = meshes[surface];
+    segment.A = mesh.Points[a->second];
+    segment.B = mesh.Points[b->second];
+    segment.PointA = a->second;
+    segment.PointB = b->second;
+    segment.Order = orders ? static_cast<int>(orders->GetComponent(lineCells[k], 0)) : 2;
+    segment.SourceId = sources ? static_cast<int>(sources->GetComponent(lineCells[k], 0)) : -1;
+    segment.ReceiverId = surface;
+    mesh.Segments.push_back(segment);
+  }
+
+  penumbra::AdaptiveSamplingSettings settings;
+  settings.RelativeTolerance = self->GetSamplingTolerance();
+  settings.MaximumSamples = self->GetMaximumSamplesPerSurface();
+  settings.MinimumFeatureSize = self->GetMinimumFeatureSize();
+
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> outLines, outPolys;
+  vtkNew<vtkDoubleArray> radiance, residual;
+  radiance->SetName("Radiance");
+  radiance->SetNumberOfComponents(3);
+  residual->SetName("SamplingResidual");
+  residual->SetNumberOfComponents(3);
+  vtkNew<vtkIntArray> pointSurface;
+  pointSurface->SetName("SurfaceId");
+  std::vector<int> lineSurface, lineOrder, lineSource, polySurface;
+  std::vector<std::array<double, 3>> polyResidual;
+  long long evaluations = 0;
+  std::size_t done = 0;
+  for (const auto& entry : meshes)
+  {
+    if (self->GetAbortExecute())
+    {
+      output->Initialize();
+      return true;
+    }
+    const int surface = entry.first;
+    penumbra::AdaptiveSamplingResult result;
+    try
+    {
+      const penumbra::RadianceBatchFunction evaluate =
+        [&](const penumbra::Vec3* x, int count, penumbra::RGB* values) {
+          vtkSMPTools::For(0, count, [&](vtkIdType first, vtkIdType last) {
+            for (vtkIdType k = first; k < last; ++k)
+            {
+              values[k] = evaluatePoint(surface, x[k]);
+            }
+          });
+        };
+      result = penumbra::SampleReceiver(entry.second, evaluate, settings);
+      // A surface the shooters leave smooth (or dark) keeps its few initial
+      // samples, but light arriving later (interreflection) needs room to
+      // vary there: without shadow lines to keep, sample it on a uniform grid.
+      const bool hasShadowLines = std::any_of(entry.second.Segments.begin(),
+        entry.second.Segments.end(), [](const penumbra::DiscontinuitySegment& segment) {
+          return segment.Order >= 1;
+        });
+      if (!hasShadowLines && result.Statistics.Samples < self->GetMinimumSamplesPerSurface())
+      {
+        result = penumbra::SampleReceiverUniform(
+          entry.second, self->GetMinimumSamplesPerSurface(), evaluate, settings);
+      }
+    }
+    catch (const penumbra::InputError& e)
+    {
+      output->Initialize();
+      vtkErrorWithObjectMacro(self, << "surface " << surface << ": " << e.what());
+      return false;
+    }
+    evaluations += result.Statistics.Evaluations;
+    const vtkIdType offset = points->GetNumberOfPoints();
+    for (std::size_t p = 0; p < result.Mesh.Points.size(); ++p)
+    {
+      const penumbra::Vec3& x = result.Mesh.Points[p];
+      points->InsertNextPoint(x.X, x.Y, x.Z);
+      radiance->InsertNextTuple3(result.Values[p].R, result.Values[p].G, result.Values[p].B);
+      pointSurface->InsertNextValue(surface);
+    }
+    std::vector<std::array<double, 3>> worst(result.Mesh.Triangles.size(), { 0.0, 0.0, 0.0 });
+    for (std::size_t q = 0; q < result.Probes.Triangles.size(); ++q)
+    {
+      auto& w = worst[static_cast<std::size_t>(result.Probes.Triangles[q])];
+      for (int c = 0; c < 3; ++c)
+      {
+        w[c] = std::max(w[c], std::abs(result.Probes.Residuals[3 * q + c]));
+      }
+    }
+    for (std::size_t t = 0; t < result.Mesh.Triangles.size(); ++t)
+    {
+      const auto& tri = result.Mesh.Triangles[t];
+      const vtkIdType ids[3] = { offset + tri[0], offset + tri[1], offset + tri[2] };
+      outPolys->InsertNextCell(3, ids);
+      polySurface.push_back(surface);
+      polyResidual.push_back(worst[t]);
+    }
+    for (const penumbra::DiscontinuitySegment& segment : result.Mesh.Segments)
+    {
+      const vtkIdType ids[2] = { offset + segment.PointA, offset + segment.PointB };
+      outLines->InsertNextCell(2, ids);
+      lineSurface.push_back(surface);
+      lineOrder.push_back(segment.Order);
+      lineSource.push_back(segment.SourceId);
+    }
+    self->UpdateProgress(static_cast<double>(++done) / meshes.size());
+  }
+
+  output->Initialize();
+  output->SetPoints(points);
+  output->SetLines(outLines);
+  output->SetPolys(outPolys);
+  output->GetPointData()->AddArray(radiance);
+  output->GetPointData()->SetActiveScalars("Radiance");
+  output->GetPointData()->AddArray(pointSurface);
+  penumbra::AddMeshCellArrays(output, lineSurface, lineOrder, lineSource, polySurface);
+  for (std::size_t k = 0; k < lineSurface.size(); ++k)
+  {
+    residual->InsertNextTuple3(0.0, 0.0, 0.0);
+  }
+  for (const auto& r : polyResidual)
+  {
+    residual->InsertNextTuple(r.data());
+  }
+  output->GetCellData()->AddArray(residual);
+  vtkNew<vtkIdTypeArray> evaluationCount;
+  evaluationCount->SetName("Evaluations");
+  evaluationCount->InsertNextValue(static_cast<vtkIdType>(evaluations));
+  output->GetFieldData()->AddArray(evaluationCount);
+  return true;
+}
+
+}
+
 int vtkRadianceEvaluator::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -342,7 +569,7 @@ int vtkRadianceEvaluator::RequestData(
 
   if (this->AdaptiveSampling && samples->GetNumberOfPolys() > 0)
   {
-    return this->SampleAdaptively(samples, output, evaluatePoint) ? 1 : 0;
+    return SampleAdaptively(this, samples, output, evaluatePoint) ? 1 : 0;
   }
 
   const vtkIdType numberOfPoints = samples->GetNumberOfPoints();
@@ -378,226 +605,6 @@ int vtkRadianceEvaluator::RequestData(
   output->GetPointData()->AddArray(radiance);
   output->GetPointData()->SetActiveScalars("Radiance");
   return 1;
-}
-
-bool vtkRadianceEvaluator::SampleAdaptively(vtkPolyData* samples, vtkPolyData* output,
-  const std::function<penumbra::RGB(int, const penumbra::Vec3&)>& evaluatePoint)
-{
-  vtkDataArray* surfaceIds = samples->GetCellData()->GetArray("SurfaceId");
-  vtkDataArray* orders = samples->GetCellData()->GetArray("DiscontinuityOrder");
-  vtkDataArray* sources = samples->GetCellData()->GetArray("SourceId");
-  if (!surfaceIds)
-  {
-    output->Initialize();
-    vtkErrorMacro(<< "adaptive sampling needs the cell array 'SurfaceId' on the triangles");
-    return false;
-  }
-
-  // Rebuild each surface's mesh (mesher layout) from the triangles and lines.
-  std::map<int, penumbra::ReceiverMesh> meshes;
-  std::map<int, std::unordered_map<vtkIdType, int>> localIds;
-  std::map<int, std::map<std::array<double, 3>, int>> vertexIds;
-  auto localId = [&](int surface, vtkIdType id) {
-    auto& ids = localIds[surface];
-    auto found = ids.find(id);
-    if (found != ids.end())
-    {
-      return found->second;
-    }
-    penumbra::ReceiverMesh& mesh = meshes[surface];
-    double p[3];
-    samples->GetPoint(id, p);
-    auto& vertices = vertexIds[surface];
-    const auto vertex = vertices.emplace(std::array<double, 3>{ p[0], p[1], p[2] },
-      static_cast<int>(vertices.size()));
-    mesh.Points.emplace_back(p[0], p[1], p[2]);
-    mesh.PointVertex.push_back(vertex.first->second);
-    const int k = static_cast<int>(mesh.Points.size()) - 1;
-    ids.emplace(id, k);
-    return k;
-  };
-  vtkIdType cellId = samples->GetNumberOfVerts();
-  std::vector<std::array<vtkIdType, 2>> lines;
-  std::vector<vtkIdType> lineCells;
-  {
-    auto it = vtk::TakeSmartPointer(samples->GetLines()->NewIterator());
-    vtkIdType npts;
-    const vtkIdType* pts;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-    {
-      it->GetCurrentCell(npts, pts);
-      for (vtkIdType k = 0; k + 1 < npts; ++k)
-      {
-        lines.push_back({ pts[k], pts[k + 1] });
-        lineCells.push_back(cellId);
-      }
-    }
-  }
-  {
-    auto it = vtk::TakeSmartPointer(samples->GetPolys()->NewIterator());
-    vtkIdType npts;
-    const vtkIdType* pts;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-    {
-      it->GetCurrentCell(npts, pts);
-      if (npts != 3)
-      {
-        output->Initialize();
-        vtkErrorMacro(<< "cell " << cellId << " is not a triangle; adaptive sampling needs a "
-                      << "triangle mesh (vtkDiscontinuityMesher's output)");
-        return false;
-      }
-      const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
-      const int a = localId(surface, pts[0]), b = localId(surface, pts[1]),
-                c = localId(surface, pts[2]);
-      meshes[surface].ReceiverId = surface;
-      meshes[surface].Triangles.push_back({ a, b, c });
-    }
-  }
-  for (std::size_t k = 0; k < lines.size(); ++k)
-  {
-    const int surface = static_cast<int>(surfaceIds->GetComponent(lineCells[k], 0));
-    auto ids = localIds.find(surface);
-    if (ids == localIds.end())
-    {
-      continue;
-    }
-    auto a = ids->second.find(lines[k][0]);
-    auto b = ids->second.find(lines[k][1]);
-    if (a == ids->second.end() || b == ids->second.end())
-    {
-      continue;
-    }
-    penumbra::DiscontinuitySegment segment;
-    penumbra::ReceiverMesh& mesh = meshes[surface];
-    segment.A = mesh.Points[a->second];
-    segment.B = mesh.Points[b->second];
-    segment.PointA = a->second;
-    segment.PointB = b->second;
-    segment.Order = orders ? static_cast<int>(orders->GetComponent(lineCells[k], 0)) : 2;
-    segment.SourceId = sources ? static_cast<int>(sources->GetComponent(lineCells[k], 0)) : -1;
-    segment.ReceiverId = surface;
-    mesh.Segments.push_back(segment);
-  }
-
-  penumbra::AdaptiveSamplingSettings settings;
-  settings.RelativeTolerance = this->SamplingTolerance;
-  settings.MaximumSamples = this->MaximumSamplesPerSurface;
-  settings.MinimumFeatureSize = this->MinimumFeatureSize;
-
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  vtkNew<vtkCellArray> outLines, outPolys;
-  vtkNew<vtkDoubleArray> radiance, residual;
-  radiance->SetName("Radiance");
-  radiance->SetNumberOfComponents(3);
-  residual->SetName("SamplingResidual");
-  residual->SetNumberOfComponents(3);
-  vtkNew<vtkIntArray> pointSurface;
-  pointSurface->SetName("SurfaceId");
-  std::vector<int> lineSurface, lineOrder, lineSource, polySurface;
-  std::vector<std::array<double, 3>> polyResidual;
-  long long evaluations = 0;
-  std::size_t done = 0;
-  for (const auto& entry : meshes)
-  {
-    if (this->GetAbortExecute())
-    {
-      output->Initialize();
-      return true;
-    }
-    const int surface = entry.first;
-    penumbra::AdaptiveSamplingResult result;
-    try
-    {
-      const penumbra::RadianceBatchFunction evaluate =
-        [&](const penumbra::Vec3* x, int count, penumbra::RGB* values) {
-          vtkSMPTools::For(0, count, [&](vtkIdType first, vtkIdType last) {
-            for (vtkIdType k = first; k < last; ++k)
-            {
-              values[k] = evaluatePoint(surface, x[k]);
-            }
-          });
-        };
-      result = penumbra::SampleReceiver(entry.second, evaluate, settings);
-      // A surface the shooters leave smooth (or dark) keeps its few initial
-      // samples, but light arriving later (interreflection) needs room to
-      // vary there: without shadow lines to keep, sample it on a uniform grid.
-      const bool hasShadowLines = std::any_of(entry.second.Segments.begin(),
-        entry.second.Segments.end(), [](const penumbra::DiscontinuitySegment& segment) {
-          return segment.Order >= 1;
-        });
-      if (!hasShadowLines && result.Statistics.Samples < this->MinimumSamplesPerSurface)
-      {
-        result = penumbra::SampleReceiverUniform(
-          entry.second, this->MinimumSamplesPerSurface, evaluate, settings);
-      }
-    }
-    catch (const penumbra::InputError& e)
-    {
-      output->Initialize();
-      vtkErrorMacro(<< "surface " << surface << ": " << e.what());
-      return false;
-    }
-    evaluations += result.Statistics.Evaluations;
-    const vtkIdType offset = points->GetNumberOfPoints();
-    for (std::size_t p = 0; p < result.Mesh.Points.size(); ++p)
-    {
-      const penumbra::Vec3& x = result.Mesh.Points[p];
-      points->InsertNextPoint(x.X, x.Y, x.Z);
-      radiance->InsertNextTuple3(result.Values[p].R, result.Values[p].G, result.Values[p].B);
-      pointSurface->InsertNextValue(surface);
-    }
-    std::vector<std::array<double, 3>> worst(result.Mesh.Triangles.size(), { 0.0, 0.0, 0.0 });
-    for (std::size_t q = 0; q < result.Probes.Triangles.size(); ++q)
-    {
-      auto& w = worst[static_cast<std::size_t>(result.Probes.Triangles[q])];
-      for (int c = 0; c < 3; ++c)
-      {
-        w[c] = std::max(w[c], std::abs(result.Probes.Residuals[3 * q + c]));
-      }
-    }
-    for (std::size_t t = 0; t < result.Mesh.Triangles.size(); ++t)
-    {
-      const auto& tri = result.Mesh.Triangles[t];
-      const vtkIdType ids[3] = { offset + tri[0], offset + tri[1], offset + tri[2] };
-      outPolys->InsertNextCell(3, ids);
-      polySurface.push_back(surface);
-      polyResidual.push_back(worst[t]);
-    }
-    for (const penumbra::DiscontinuitySegment& segment : result.Mesh.Segments)
-    {
-      const vtkIdType ids[2] = { offset + segment.PointA, offset + segment.PointB };
-      outLines->InsertNextCell(2, ids);
-      lineSurface.push_back(surface);
-      lineOrder.push_back(segment.Order);
-      lineSource.push_back(segment.SourceId);
-    }
-    this->UpdateProgress(static_cast<double>(++done) / meshes.size());
-  }
-
-  output->Initialize();
-  output->SetPoints(points);
-  output->SetLines(outLines);
-  output->SetPolys(outPolys);
-  output->GetPointData()->AddArray(radiance);
-  output->GetPointData()->SetActiveScalars("Radiance");
-  output->GetPointData()->AddArray(pointSurface);
-  penumbra::AddMeshCellArrays(output, lineSurface, lineOrder, lineSource, polySurface);
-  for (std::size_t k = 0; k < lineSurface.size(); ++k)
-  {
-    residual->InsertNextTuple3(0.0, 0.0, 0.0);
-  }
-  for (const auto& r : polyResidual)
-  {
-    residual->InsertNextTuple(r.data());
-  }
-  output->GetCellData()->AddArray(residual);
-  vtkNew<vtkIdTypeArray> evaluationCount;
-  evaluationCount->SetName("Evaluations");
-  evaluationCount->InsertNextValue(static_cast<vtkIdType>(evaluations));
-  output->GetFieldData()->AddArray(evaluationCount);
-  return true;
 }
 
 void vtkRadianceEvaluator::PrintSelf(ostream& os, vtkIndent indent)

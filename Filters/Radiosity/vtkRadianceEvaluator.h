@@ -58,14 +58,7 @@
 #include "vtkPenumbraFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
-#include <functional> // for std::function
-#include <vector>     // for std::vector
-
-namespace penumbra
-{
-struct RGB;
-struct Vec3;
-}
+#include <vector> // for std::vector
 
 class VTKPENUMBRAFILTERS_EXPORT vtkRadianceEvaluator : public vtkPolyDataAlgorithm
 {
@@ -193,10 +186,6 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-
-  /// The adaptive-sampling path of RequestData; false after an error.
-  bool SampleAdaptively(vtkPolyData* samples, vtkPolyData* output,
-    const std::function<penumbra::RGB(int, const penumbra::Vec3&)>& evaluatePoint);
 
   int Method = EXACT;
   double RayCastTolerance = 1e-3;
