@@ -136,44 +136,44 @@ Errors Measure(const AdaptiveSamplingResult& result, ReconstructionMode mode,
   return e;
 }
 
-// Calibration of the error estimate built from the sampler's probes: the
-// pointwise estimate of ErrorEstimateOptions (model term and the largest
-// probe residual of the triangle, default safety factors) at each point,
-// against the actual error. Coverage = fraction of points where the estimate
-// is at least the actual error; ratio = mean estimate / mean actual error.
+// Calibration of the error estimate built from the sampler's probes (the
+// pointwise estimate of ErrorEstimateOptions, default safety factors) against
+// the actual error. Coverage = fraction of points where the estimate is at
+// least the actual error; ratio = mean estimate / mean actual error.
 void Calibration(const AdaptiveSamplingResult& result, const std::vector<Vec3>& points,
   const std::vector<RGB>& exact, double& coverage, double& ratio)
 {
   Reconstruction r;
   r.Build(result.Samples);
-  const ErrorEstimateOptions options;
-  std::vector<double> probe(result.Samples.GetNumberOfTriangles(), 0.0);
-  for (std::size_t k = 0; k < result.Probes.Triangles.size(); ++k)
-  {
-    double& p = probe[result.Probes.Triangles[k]];
-    p = std::max(p, std::abs(result.Probes.Residuals[3 * k]));
-  }
-  int covered = 0;
-  double sumEstimate = 0.0, sumError = 0.0;
+  std::vector<int> triangles;
+  std::vector<double> barycentrics, actual;
   for (std::size_t i = 0; i < points.size(); ++i)
   {
     const Vec3 d = points[i] - result.Origin;
     const double u = Dot(d, result.AxisU), v = Dot(d, result.AxisV);
-    double b[3], value[3], model[3];
+    double b[3], value[3];
     const int t = r.FindTriangle(u, v, b);
-    if (t < 0)
+    if (t >= 0)
     {
-      continue;
+      r.Evaluate(t, b, value);
+      triangles.push_back(t);
+      barycentrics.insert(barycentrics.end(), b, b + 3);
+      actual.push_back(std::abs(value[0] - exact[i].R));
     }
-    r.EvaluateAt(t, u, v, value);
-    r.EstimateError(t, b, options, model);
-    const double estimate = std::max(model[0], options.ProbeSafetyFactor * probe[t]);
-    const double error = std::abs(value[0] - exact[i].R);
-    covered += estimate >= error;
-    sumEstimate += estimate;
-    sumError += error;
   }
-  coverage = static_cast<double>(covered) / points.size();
+  const int n = static_cast<int>(triangles.size());
+  std::vector<double> estimates(3 * actual.size());
+  r.EstimateErrors(n, triangles.data(), barycentrics.data(), &result.Probes,
+    ErrorEstimateOptions(), estimates.data());
+  int covered = 0;
+  double sumEstimate = 0.0, sumError = 0.0;
+  for (int i = 0; i < n; ++i)
+  {
+    covered += estimates[3 * i] >= actual[i];
+    sumEstimate += estimates[3 * i];
+    sumError += actual[i];
+  }
+  coverage = static_cast<double>(covered) / std::max(n, 1);
   ratio = sumEstimate / std::max(sumError, 1e-300);
 }
 

@@ -186,8 +186,8 @@ struct Reconstruction::Internals
   void EvaluateWithNets(
     int t, const Net* nets, const double bIn[3], double* value, double* gradient) const;
   void ModelError(int t, const double b[3], const double* interpolated, double* error) const;
-  void ProbeBounds(
-    const ErrorProbes* probes, const ErrorEstimateOptions& options, std::vector<double>& out) const;
+  void CalibrateWithProbes(const ErrorProbes* probes, const ErrorEstimateOptions& options,
+    std::vector<double>& bound, std::vector<double>& modelScale) const;
   void Barycentric(int t, double u, double v, double b[3]) const;
 };
 
@@ -1809,18 +1809,35 @@ void CheckErrorOptions(const ErrorEstimateOptions& o)
 }
 } // namespace
 
-void Reconstruction::EstimateError(int triangle, const double barycentric[3],
-  const ErrorEstimateOptions& options, double* error) const
+void Reconstruction::EstimateErrors(int count, const int* triangles, const double* barycentrics,
+  const ErrorProbes* probes, const ErrorEstimateOptions& options, double* errors) const
 {
   const Internals& in = *this->Internal;
-  CheckTriangle(triangle, in.Mesh.GetNumberOfTriangles());
   CheckErrorOptions(options);
-  std::vector<double> value(in.NC);
-  in.Evaluate(triangle, barycentric, value.data(), nullptr);
-  in.ModelError(triangle, barycentric, value.data(), error);
-  for (int c = 0; c < in.NC; ++c)
+  const int nt = in.Mesh.GetNumberOfTriangles();
+  for (int i = 0; i < count; ++i)
   {
-    error[c] *= options.ModelSafetyFactor;
+    CheckTriangle(triangles[i], nt);
+  }
+  std::vector<double> probeBounds, modelScale;
+  in.CalibrateWithProbes(probes, options, probeBounds, modelScale);
+  const int nc = in.NC;
+  std::vector<double> value(nc);
+  for (int i = 0; i < count; ++i)
+  {
+    const int t = triangles[i];
+    double* error = errors + static_cast<std::size_t>(i) * nc;
+    in.Evaluate(t, barycentrics + 3 * i, value.data(), nullptr);
+    in.ModelError(t, barycentrics + 3 * i, value.data(), error);
+    for (int c = 0; c < nc; ++c)
+    {
+      const std::size_t at = static_cast<std::size_t>(t) * nc + c;
+      error[c] *= options.ModelSafetyFactor * (modelScale.empty() ? 1.0 : modelScale[at]);
+      if (!probeBounds.empty())
+      {
+        error[c] = std::max(error[c], probeBounds[at]);
+      }
+    }
   }
 }
 
@@ -1831,8 +1848,8 @@ void Reconstruction::ComputeTriangleErrorBounds(const ErrorProbes* probes,
   CheckErrorOptions(options);
   const int nt = in.Mesh.GetNumberOfTriangles();
   const int nc = in.NC;
-  std::vector<double> probeBounds;
-  in.ProbeBounds(probes, options, probeBounds); // validates before the long loop
+  std::vector<double> probeBounds, modelScale;
+  in.CalibrateWithProbes(probes, options, probeBounds, modelScale); // validates first
   bounds.assign(static_cast<std::size_t>(nt) * nc, 0.0);
   const int level = options.ModelLevel;
   const bool cubic = in.Options.Mode == ReconstructionMode::CloughTocher;
@@ -1858,7 +1875,9 @@ void Reconstruction::ComputeTriangleErrorBounds(const ErrorProbes* probes,
         in.ModelError(t, bary, value.data(), error.data());
         for (int c = 0; c < nc; ++c)
         {
-          out[c] = std::max(out[c], options.ModelSafetyFactor * error[c]);
+          const double scale =
+            modelScale.empty() ? 1.0 : modelScale[static_cast<std::size_t>(t) * nc + c];
+          out[c] = std::max(out[c], options.ModelSafetyFactor * scale * error[c]);
         }
       }
     }
@@ -1873,11 +1892,15 @@ void Reconstruction::ComputeTriangleErrorBounds(const ErrorProbes* probes,
 }
 
 //------------------------------------------------------------------------------
-// ProbeSafetyFactor * max |residual| per triangle and channel (empty without probes).
-void Reconstruction::Internals::ProbeBounds(
-  const ErrorProbes* probes, const ErrorEstimateOptions& options, std::vector<double>& out) const
+// Per triangle and channel (both empty without probes): bound =
+// ProbeSafetyFactor * max |residual|, modelScale = the factor k_t of
+// ErrorEstimateOptions (1 for a triangle without probes).
+void Reconstruction::Internals::CalibrateWithProbes(const ErrorProbes* probes,
+  const ErrorEstimateOptions& options, std::vector<double>& bound,
+  std::vector<double>& modelScale) const
 {
-  out.clear();
+  bound.clear();
+  modelScale.clear();
   if (!probes)
   {
     return;
@@ -1890,7 +1913,8 @@ void Reconstruction::Internals::ProbeBounds(
       " residuals for " + std::to_string(probes->Triangles.size()) + " probes of " +
       std::to_string(nc) + " channels");
   }
-  out.assign(static_cast<std::size_t>(nt) * nc, 0.0);
+  std::vector<double> measured(static_cast<std::size_t>(nt) * nc, 0.0);
+  std::vector<char> probed(nt, 0);
   for (std::size_t i = 0; i < probes->Triangles.size(); ++i)
   {
     const int t = probes->Triangles[i];
@@ -1899,6 +1923,7 @@ void Reconstruction::Internals::ProbeBounds(
       throw InputError("Reconstruction: probe " + std::to_string(i) + " has triangle id " +
         std::to_string(t) + " out of range [0, " + std::to_string(nt) + ")");
     }
+    probed[t] = 1;
     for (int c = 0; c < nc; ++c)
     {
       const double r = probes->Residuals[i * nc + c];
@@ -1907,8 +1932,37 @@ void Reconstruction::Internals::ProbeBounds(
         throw InputError(
           "Reconstruction: probe " + std::to_string(i) + " has a non-finite residual");
       }
-      double& o = out[static_cast<std::size_t>(t) * nc + c];
-      o = std::max(o, options.ProbeSafetyFactor * std::abs(r));
+      double& m = measured[static_cast<std::size_t>(t) * nc + c];
+      m = std::max(m, std::abs(r));
+    }
+  }
+  bound.resize(measured.size());
+  modelScale.assign(measured.size(), 1.0);
+  std::vector<double> value(nc), error(nc), claimed(nc);
+  const double midpoints[3][3] = { { 0.5, 0.5, 0.0 }, { 0.0, 0.5, 0.5 }, { 0.5, 0.0, 0.5 } };
+  for (int t = 0; t < nt; ++t)
+  {
+    const std::size_t at = static_cast<std::size_t>(t) * nc;
+    std::fill(claimed.begin(), claimed.end(), 0.0);
+    if (probed[t])
+    {
+      for (const auto& b : midpoints)
+      {
+        this->Evaluate(t, b, value.data(), nullptr);
+        this->ModelError(t, b, value.data(), error.data());
+        for (int c = 0; c < nc; ++c)
+        {
+          claimed[c] = std::max(claimed[c], error[c]);
+        }
+      }
+    }
+    for (int c = 0; c < nc; ++c)
+    {
+      bound[at + c] = options.ProbeSafetyFactor * measured[at + c];
+      if (claimed[c] > measured[at + c])
+      {
+        modelScale[at + c] = measured[at + c] / claimed[c];
+      }
     }
   }
 }
@@ -1935,11 +1989,11 @@ void Reconstruction::Resample(const ResampleOptions& options, ResampledMesh& out
   const int nt = in.Mesh.GetNumberOfTriangles();
   const int nc = in.NC;
   const bool estimate = options.ComputeErrorEstimate;
-  std::vector<double> probeBounds, triangleBounds;
+  std::vector<double> probeBounds, modelScale, triangleBounds;
   if (estimate)
   {
     CheckErrorOptions(errorOptions);
-    in.ProbeBounds(probes, errorOptions, probeBounds);
+    in.CalibrateWithProbes(probes, errorOptions, probeBounds, modelScale);
     if (errorOptions.PerTriangle)
     {
       this->ComputeTriangleErrorBounds(probes, errorOptions, triangleBounds);
@@ -2230,7 +2284,8 @@ void Reconstruction::Resample(const ResampleOptions& options, ResampledMesh& out
         in.ModelError(t, c.B, interpolated, error.data());
         for (int j = 0; j < nc; ++j)
         {
-          e[j] = std::max(e[j], errorOptions.ModelSafetyFactor * error[j]);
+          const double scale = modelScale.empty() ? 1.0 : modelScale[at + j];
+          e[j] = std::max(e[j], errorOptions.ModelSafetyFactor * scale * error[j]);
           if (probe)
           {
             e[j] = std::max(e[j], probe[j]);

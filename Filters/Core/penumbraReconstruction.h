@@ -247,11 +247,18 @@ struct ErrorProbes
  * error at most points (>= 90%) and on average (ratio of the means over a
  * surface) within a small factor of it (<= 10). At a point x of triangle t:
  *
- *   max( ModelSafetyFactor * max_c |T_c(x) - I(x)|,
+ *   max( ModelSafetyFactor * k_t * max_c |T_c(x) - I(x)|,
  *        ProbeSafetyFactor * max |probe residual of t| ),
  *
- * T_c the local cubic model of corner c (see the file documentation) and I
- * the interpolant. With PerTriangle the first term is replaced by its
+ * T_c the local cubic model of corner c (see the file documentation), I
+ * the interpolant, and k_t = min(1, a / m) for a triangle with probes (1
+ * without): a the largest |probe residual| of t, m the largest model term
+ * max_c |T_c - I| at t's edge midpoints, where an adaptive sampler's probes
+ * lie. The model is an extrapolation; the probes are measurements, so where
+ * the model claims more error than was measured it is scaled down to the
+ * measurement. (A corner model fitted across a curvature jump, e.g. an
+ * umbra's outline, predicts errors inside the umbra where the radiance and
+ * the interpolant are both exactly zero.) With PerTriangle the first term is replaced by its
  * maximum over t (more conservative, constant per triangle). An output point
  * of Resample gets the largest value over the input triangles holding it.
  * Measured with the default factors at 20000 random points per case, on
@@ -374,13 +381,15 @@ public:
   void GetCornerGradient(int triangle, int corner, double* gradient) const;
 
   /**
-   * Pointwise model error estimate (see the file documentation), times
-   * options.ModelSafetyFactor, at a point of `triangle` given by
-   * barycentric coordinates (clamped): NumberOfChannels non-negative doubles.
-   * Probes and PerTriangle are not used here.
+   * Pointwise error estimate of ErrorEstimateOptions at `count` points: the
+   * point i lies in triangle triangles[i] at barycentric coordinates
+   * barycentrics[3i..3i+2] (clamped). Writes NumberOfChannels non-negative
+   * doubles per point into `errors`. `probes` may be null (model term
+   * only). PerTriangle is not used here. Throws InputError as
+   * ComputeTriangleErrorBounds does, or for a triangle id out of range.
    */
-  void EstimateError(int triangle, const double barycentric[3],
-    const ErrorEstimateOptions& options, double* error) const;
+  void EstimateErrors(int count, const int* triangles, const double* barycentrics,
+    const ErrorProbes* probes, const ErrorEstimateOptions& options, double* errors) const;
 
   /**
    * Per-triangle error bounds: NumberOfChannels doubles per input triangle,

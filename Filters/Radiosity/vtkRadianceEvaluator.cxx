@@ -381,7 +381,9 @@ bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyD
       radiance->InsertNextTuple3(result.Values[p].R, result.Values[p].G, result.Values[p].B);
       pointSurface->InsertNextValue(surface);
     }
-    std::vector<std::array<double, 3>> worst(result.Mesh.Triangles.size(), { 0.0, 0.0, 0.0 });
+    // -1: not probed (a uniformly sampled surface); the reconstructor then
+    // relies on its model alone there.
+    std::vector<std::array<double, 3>> worst(result.Mesh.Triangles.size(), { -1.0, -1.0, -1.0 });
     for (std::size_t q = 0; q < result.Probes.Triangles.size(); ++q)
     {
       auto& w = worst[static_cast<std::size_t>(result.Probes.Triangles[q])];

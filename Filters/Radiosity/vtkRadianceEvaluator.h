@@ -43,7 +43,8 @@
  * surface has MaximumSamplesPerSurface samples). The output is then the
  * refined mesh, with the same arrays plus the cell array
  * `SamplingResidual` (3 components: the largest |true - interpolated|
- * radiance found at the triangle's last probes; 0 on lines), which
+ * radiance found at the triangle's last probes; -1 where the triangle was
+ * not probed, i.e. on a surface sampled on a uniform grid; 0 on lines), which
  * vtkRadianceReconstructor turns into its error estimate, and the field
  * array `Evaluations`.
  *

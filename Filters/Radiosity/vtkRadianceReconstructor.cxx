@@ -128,7 +128,10 @@ void ReconstructSurface(const SurfaceCells& cells, vtkPoints* points, vtkDataArr
   penumbra::ErrorProbes probes;
   for (std::size_t t = 0; t < cells.Residuals.size(); ++t)
   {
-    probes.Add(static_cast<int>(t), cells.Residuals[t].data(), 3);
+    if (cells.Residuals[t][0] >= 0.0) // negative: the triangle was not probed
+    {
+      probes.Add(static_cast<int>(t), cells.Residuals[t].data(), 3);
+    }
   }
 
   penumbra::ResampledMesh result;

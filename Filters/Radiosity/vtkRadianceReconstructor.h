@@ -10,8 +10,8 @@
  * Points along order-0 lines must be duplicated (one copy per side).
  * The optional cell array `SamplingResidual` (3 components, from the
  * adaptive sampling of vtkRadianceEvaluator: the largest |true -
- * interpolated| radiance seen at each triangle's last probes) feeds the
- * error estimate.
+ * interpolated| radiance seen at each triangle's last probes; negative
+ * where a triangle was not probed) feeds the error estimate.
  *
  * For each surface the radiance is reconstructed with a C1 piecewise cubic
  * (Clough–Tocher) inside each smooth region, vertex gradients fitted by

@@ -1139,7 +1139,7 @@ struct Calibration
 
 enum class EstimateKind
 {
-  Pointwise,   // Reconstruction::EstimateError
+  Pointwise,   // Reconstruction::EstimateErrors
   OutputMap,   // Resample's ErrorEstimate, linear over the output triangles
   PerTriangle, // ComputeTriangleErrorBounds
   Proxy        // |cubic - linear|, for comparison
@@ -1193,7 +1193,7 @@ Calibration Calibrate(const Reconstruction& r, const std::function<double(double
     switch (kind)
     {
       case EstimateKind::Pointwise:
-        r.EstimateError(t, b, eo, &est);
+        r.EstimateErrors(1, &t, b, nullptr, eo, &est);
         break;
       case EstimateKind::PerTriangle:
         est = bounds[t];

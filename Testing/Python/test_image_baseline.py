@@ -7,7 +7,7 @@ import pytest
 from vtkmodules.test import Testing
 
 import penumbra
-from penumbra.rendering import make_render_window
+from penumbra.rendering import make_comparison_window, make_render_window
 from conftest import BASELINE_DIR, BUILD_DIR
 
 
@@ -34,3 +34,40 @@ def test_a_different_picture_fails_the_comparison():
         Testing.compareImage(_window("blind"),
                              os.path.join(BASELINE_DIR, "TestPythonCornellScene.png"),
                              threshold=0.15)
+
+
+def _seven_floor_reconstructions():
+    """The seven-occluder scene's direct light, reconstructed with Clough-Tocher
+    (the default) and with Linear interpolation from the same samples, taken
+    at a coarse sampling tolerance (5%) where linear interpolation shows its
+    Mach bands."""
+    from vtkmodules.vtkCommonExecutionModel import vtkTrivialProducer
+    from penumbra.pipeline import build_pipeline
+
+    source = vtkTrivialProducer()
+    source.SetOutput(penumbra.load_scene("seven"))
+    stages = build_pipeline(source.GetOutputPort(), indirect=False)
+    stages["evaluator"].SetSamplingTolerance(0.05)
+    linear = penumbra.vtkRadianceReconstructor()
+    linear.SetInputConnection(stages["evaluator"].GetOutputPort())
+    linear.SetModeToLinear()
+    linear.SetSubdivisionLevel(stages["reconstructor"].GetSubdivisionLevel())
+    return [penumbra.run_filter(stages["reconstructor"]), penumbra.run_filter(linear)]
+
+
+def test_reconstructed_floor_beside_linear_matches_baseline():
+    # Left: the piecewise-cubic reconstruction; right: linear interpolation of
+    # the same samples, with its Mach bands along the shadow outlines.
+    window = make_comparison_window(_seven_floor_reconstructions(), surface_id=0,
+                                    size=(800, 400),
+                                    titles=["Clough-Tocher", "Linear"])
+    window.Render()
+    Testing.compareImage(window, os.path.join(BASELINE_DIR, "TestReconstructedFloor.png"),
+                         threshold=0.15)
+
+
+def test_solved_cornell_box_matches_baseline():
+    window = make_render_window(penumbra.solve("cornell"), camera="cornell", size=(300, 300))
+    window.Render()
+    Testing.compareImage(window, os.path.join(BASELINE_DIR, "TestSolvedCornellBox.png"),
+                         threshold=0.15)

@@ -58,6 +58,21 @@ def render_png(vtp_path, png_path, camera="auto", size=(512, 512), exposure=None
                           % (result.stderr.strip().splitlines() or ["(no message)"])[-1])
 
 
+def default_exposure(radiance, weights=None):
+    """The 99th percentile of the channel maxima of an (n, 3) radiance array,
+    weighted by `weights` (e.g. the area each point stands for); 1 if empty."""
+    import numpy as np
+
+    radiance = np.asarray(radiance, dtype=float).reshape(-1, 3)
+    peaks = radiance.max(axis=1) if len(radiance) else np.zeros(1)
+    w = np.ones(len(peaks)) if weights is None else np.asarray(weights, dtype=float)
+    order = np.argsort(peaks)
+    cumulative = np.cumsum(w[order])
+    if not len(peaks) or cumulative[-1] <= 0:
+        return 1.0
+    return float(peaks[order][np.searchsorted(cumulative, 0.99 * cumulative[-1])])
+
+
 def radiance_to_colors(radiance, exposure=None, weights=None):
     """Display colors (uint8 RGB) for an (n, 3) radiance array.
 
@@ -71,30 +86,22 @@ def radiance_to_colors(radiance, exposure=None, weights=None):
 
     radiance = np.asarray(radiance, dtype=float).reshape(-1, 3)
     if exposure is None:
-        peaks = radiance.max(axis=1) if len(radiance) else np.zeros(1)
-        w = np.ones(len(peaks)) if weights is None else np.asarray(weights, dtype=float)
-        order = np.argsort(peaks)
-        cumulative = np.cumsum(w[order])
-        exposure = float(peaks[order][np.searchsorted(cumulative, 0.99 * cumulative[-1])]) \
-            if len(peaks) and cumulative[-1] > 0 else 1.0
+        exposure = default_exposure(radiance, weights)
     exposure = exposure if exposure > 0 else 1.0
     x = np.clip(radiance / exposure, 0.0, 1.0)
     srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
     return np.round(srgb * 255.0).astype(np.uint8)
 
 
-def make_render_window(data, camera="auto", size=(512, 512), exposure=None):
-    """An off-screen vtkRenderWindow showing `data` (a scene or a solution).
-
-    A solution (point array `Radiance`) is shown unlit, as computed, through
-    `radiance_to_colors`; a bare scene in its reflectance colors (emitters
-    white) under a headlight. Needs an X display (see `render_png`).
-    """
+def _actor(data, exposure=None):
+    """An actor showing `data`: a solution (point array `Radiance`) unlit, as
+    computed, through `radiance_to_colors`; a bare scene in its reflectance
+    colors (emitters white) for a headlight. Returns (actor, objects to keep
+    alive)."""
     import numpy as np
     from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-    from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer,
-                                             vtkRenderWindow)
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (registers the OpenGL backend)
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (the OpenGL mapper, before any mapper)
 
     shaded = data.NewInstance()
     shaded.ShallowCopy(data)
@@ -115,8 +122,6 @@ def make_render_window(data, camera="auto", size=(512, 512), exposure=None):
         reflectance = vtk_to_numpy(data.GetCellData().GetArray("Reflectance"))
         emission = vtk_to_numpy(data.GetCellData().GetArray("Emission"))
         rgb = np.where(emission.max(axis=1, keepdims=True) > 0, 1.0, reflectance)
-        # Ambient light scales by the color too; brighten so walls read.
-        rgb = np.clip(rgb, 0, 1)
         colors = numpy_to_vtk(np.round(np.clip(rgb, 0, 1) * 255).astype(np.uint8), deep=1)
         colors.SetName("DisplayColor")
         shaded.GetCellData().AddArray(colors)
@@ -127,13 +132,33 @@ def make_render_window(data, camera="auto", size=(512, 512), exposure=None):
     mapper.SelectColorArray("DisplayColor")
     mapper.SetColorModeToDirectScalars()
     mapper.ScalarVisibilityOn()
+    return actor, (shaded, mapper)
 
-    renderer = vtkRenderer()
-    renderer.AddActor(actor)
-    renderer.SetBackground(0.0, 0.0, 0.0)
+
+def _window(size):
+    from vtkmodules.vtkRenderingCore import vtkRenderWindow
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (registers the OpenGL backend)
+
     window = vtkRenderWindow()
     window.SetOffScreenRendering(1)
     window.SetSize(int(size[0]), int(size[1]))
+    return window
+
+
+def make_render_window(data, camera="auto", size=(512, 512), exposure=None):
+    """An off-screen vtkRenderWindow showing `data` (a scene or a solution).
+
+    A solution (point array `Radiance`) is shown unlit, as computed, through
+    `radiance_to_colors`; a bare scene in its reflectance colors (emitters
+    white) under a headlight. Needs an X display (see `render_png`).
+    """
+    from vtkmodules.vtkRenderingCore import vtkRenderer
+
+    actor, keep = _actor(data, exposure)
+    renderer = vtkRenderer()
+    renderer.AddActor(actor)
+    renderer.SetBackground(0.0, 0.0, 0.0)
+    window = _window(size)
     window.AddRenderer(renderer)
     view = renderer.GetActiveCamera()
     if camera == "cornell":
@@ -148,7 +173,82 @@ def make_render_window(data, camera="auto", size=(512, 512), exposure=None):
         view.SetViewUp(0.0, 1.0, 0.0)
         renderer.ResetCamera()
         view.Zoom(1.2)
-    window._penumbra_keep = (shaded, mapper, actor, renderer)  # keep the pipeline alive
+    window._penumbra_keep = keep + (actor, renderer)  # keep the pipeline alive
+    return window
+
+
+def extract_surface(data, surface_id):
+    """The cells of `data` (polydata with cell array `SurfaceId`) that belong
+    to surface `surface_id`, as polydata (triangles and lines)."""
+    from vtkmodules.vtkCommonDataModel import vtkDataObject
+    from vtkmodules.vtkFiltersCore import vtkThreshold
+    from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
+
+    threshold = vtkThreshold()
+    threshold.SetInputData(data)
+    threshold.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_CELLS, "SurfaceId")
+    threshold.SetLowerThreshold(surface_id - 0.5)
+    threshold.SetUpperThreshold(surface_id + 0.5)
+    threshold.SetThresholdFunction(vtkThreshold.THRESHOLD_BETWEEN)
+    geometry = vtkGeometryFilter()
+    geometry.SetInputConnection(threshold.GetOutputPort())
+    geometry.Update()
+    return geometry.GetOutput()
+
+
+def make_comparison_window(solutions, surface_id, size=(800, 400), exposure=None, titles=None):
+    """Off-screen window with surface `surface_id` of each solution side by
+    side, seen from the front along its normal, all at one exposure (by
+    default the first solution's, see `radiance_to_colors`), each captioned
+    with its entry of `titles` when given."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkTextActor
+    import vtkmodules.vtkRenderingFreeType  # noqa: F401 (text rendering)
+
+    surfaces = [extract_surface(s, surface_id) for s in solutions]
+    if any(s.GetNumberOfPolys() == 0 for s in surfaces):
+        raise RenderError("surface %d has no triangles in every solution" % surface_id)
+    if exposure is None:
+        exposure = default_exposure(
+            vtk_to_numpy(surfaces[0].GetPointData().GetArray("Radiance")),
+            _point_areas(surfaces[0]))
+    # The surface's front normal, from its largest triangle.
+    points = vtk_to_numpy(surfaces[0].GetPoints().GetData())
+    polys = vtk_to_numpy(surfaces[0].GetPolys().GetData()).reshape(-1, 4)[:, 1:]
+    normals = np.cross(points[polys[:, 1]] - points[polys[:, 0]],
+                       points[polys[:, 2]] - points[polys[:, 0]])
+    normal = normals[np.argmax(np.linalg.norm(normals, axis=1))]
+    normal = normal / np.linalg.norm(normal)
+    up = np.eye(3)[np.argmin(np.abs(normal))]
+    up = up - normal * np.dot(up, normal)
+
+    window = _window(size)
+    keep = []
+    count = len(surfaces)
+    for k, surface in enumerate(surfaces):
+        actor, objects = _actor(surface, exposure)
+        renderer = vtkRenderer()
+        renderer.SetViewport(k / count, 0.0, (k + 1) / count, 1.0)
+        renderer.AddActor(actor)
+        renderer.SetBackground(0.0, 0.0, 0.0)
+        view = renderer.GetActiveCamera()
+        center = np.array(surface.GetCenter())
+        view.SetFocalPoint(*center)
+        view.SetPosition(*(center + normal))
+        view.SetViewUp(*up)
+        renderer.ResetCamera()
+        view.Zoom(1.3)  # the reset frames the bounding sphere; fill the viewport
+        if titles:
+            caption = vtkTextActor()
+            caption.SetInput(titles[k])
+            caption.GetTextProperty().SetFontSize(max(10, int(size[1]) // 24))
+            caption.SetPosition(8, 8)
+            renderer.AddActor2D(caption)
+            keep.append(caption)
+        window.AddRenderer(renderer)
+        keep += [actor, renderer, surface] + list(objects)
+    window._penumbra_keep = tuple(keep)
     return window
 
 
