@@ -68,6 +68,10 @@ void CheckSettings(const AdaptiveSamplingSettings& s)
   {
     bad("MinimumFeatureSize must be in [0, 1]");
   }
+  if (!(s.MaximumEdgeLength >= 0.0) || !std::isfinite(s.MaximumEdgeLength))
+  {
+    bad("MaximumEdgeLength must be finite and >= 0");
+  }
   if (s.MaximumPasses < 0 || s.MaximumPasses > 10000)
   {
     bad("MaximumPasses must be in [0, 10000]");
@@ -601,6 +605,7 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
   stats.InitialSamples = static_cast<int>(rec.Snap.PointVertex.size());
 
   const double minimumSize = settings.MinimumFeatureSize * rec.Diameter;
+  const double maximumLength = settings.MaximumEdgeLength;
   // Candidate 0 is the centroid, 1..3 the edge midpoints.
   const int firstCandidate = settings.ProbeCentroids ? 0 : 1;
   std::unordered_map<CandidateKey, CandidateValue, CandidateKeyHash> cache;
@@ -731,12 +736,6 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
     int failing = 0;
     for (int t = 0; t < nt && canInsert; ++t)
     {
-      const auto& s = scores[t];
-      if (!(std::max({ s[0], s[1], s[2], s[3] }) > 1.0))
-      {
-        continue;
-      }
-      ++failing;
       const auto& tri = rec.Snap.Triangles[t];
       const int v[3] = { rec.Snap.PointVertex[tri[0]], rec.Snap.PointVertex[tri[1]],
         rec.Snap.PointVertex[tri[2]] };
@@ -747,6 +746,18 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
         length[k] = std::hypot(b[0] - a[0], b[1] - a[1]);
         longest = std::max(longest, length[k]);
       }
+      // An edge longer than MaximumEdgeLength fails like a residual above
+      // tolerance, scored by how much too long it is.
+      auto s = scores[t];
+      for (int k = 0; k < 3 && maximumLength > 0.0; ++k)
+      {
+        s[k + 1] = std::max(s[k + 1], length[k] / maximumLength);
+      }
+      if (!(std::max({ s[0], s[1], s[2], s[3] }) > 1.0))
+      {
+        continue;
+      }
+      ++failing;
       // Width = smallest altitude: a sliver (e.g. between two nearly
       // parallel lines) is as unresolvable as a tiny triangle, and splitting
       // it along its length would only make more slivers.

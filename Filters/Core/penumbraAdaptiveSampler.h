@@ -139,6 +139,12 @@ struct AdaptiveSamplingSettings
   /// corners, slivers between nearly coincident lines, unmeshed EEE curves).
   /// [1e-4], in [0, 1]
   double MinimumFeatureSize = 1e-4;
+  /// Longest edge allowed, in scene units (absolute, so that a caller can
+  /// give all receivers one sample spacing): longer edges are split whatever
+  /// their residuals. Room for light that arrives later (interreflection,
+  /// weaker shooters) and varies where this pass's light does not, e.g. in
+  /// an umbra. [0 = no limit], >= 0
+  double MaximumEdgeLength = 0.0;
   /// Largest number of refinement passes. [100], in [0, 10000]
   int MaximumPasses = 100;
   /// Also probe each triangle at its centroid (besides its edge midpoints).

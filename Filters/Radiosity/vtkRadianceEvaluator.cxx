@@ -214,6 +214,7 @@ namespace
 /// The adaptive-sampling path of RequestData (see the class description);
 /// false after an error.
 bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyData* output,
+  double sceneDiagonal,
   const std::function<penumbra::RGB(int, const penumbra::Vec3&)>& evaluatePoint)
 {
   vtkDataArray* surfaceIds = samples->GetCellData()->GetArray("SurfaceId");
@@ -317,6 +318,7 @@ bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyD
   settings.RelativeTolerance = self->GetSamplingTolerance();
   settings.MaximumSamples = self->GetMaximumSamplesPerSurface();
   settings.MinimumFeatureSize = self->GetMinimumFeatureSize();
+  settings.MaximumEdgeLength = self->GetMaximumSampleSpacing() * sceneDiagonal;
 
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
@@ -353,18 +355,6 @@ bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyD
           });
         };
       result = penumbra::SampleReceiver(entry.second, evaluate, settings);
-      // A surface the shooters leave smooth (or dark) keeps its few initial
-      // samples, but light arriving later (interreflection) needs room to
-      // vary there: without shadow lines to keep, sample it on a uniform grid.
-      const bool hasShadowLines = std::any_of(entry.second.Segments.begin(),
-        entry.second.Segments.end(), [](const penumbra::DiscontinuitySegment& segment) {
-          return segment.Order >= 1;
-        });
-      if (!hasShadowLines && result.Statistics.Samples < self->GetMinimumSamplesPerSurface())
-      {
-        result = penumbra::SampleReceiverUniform(
-          entry.second, self->GetMinimumSamplesPerSurface(), evaluate, settings);
-      }
     }
     catch (const penumbra::InputError& e)
     {
@@ -381,8 +371,7 @@ bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyD
       radiance->InsertNextTuple3(result.Values[p].R, result.Values[p].G, result.Values[p].B);
       pointSurface->InsertNextValue(surface);
     }
-    // -1: not probed (a uniformly sampled surface); the reconstructor then
-    // relies on its model alone there.
+    // -1: not probed; the reconstructor then relies on its model alone there.
     std::vector<std::array<double, 3>> worst(result.Mesh.Triangles.size(), { -1.0, -1.0, -1.0 });
     for (std::size_t q = 0; q < result.Probes.Triangles.size(); ++q)
     {
@@ -571,7 +560,7 @@ int vtkRadianceEvaluator::RequestData(
 
   if (this->AdaptiveSampling && samples->GetNumberOfPolys() > 0)
   {
-    return SampleAdaptively(this, samples, output, evaluatePoint) ? 1 : 0;
+    return SampleAdaptively(this, samples, output, sceneData->GetLength(), evaluatePoint) ? 1 : 0;
   }
 
   const vtkIdType numberOfPoints = samples->GetNumberOfPoints();
@@ -617,7 +606,7 @@ void vtkRadianceEvaluator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AdaptiveSampling: " << (this->AdaptiveSampling ? "On" : "Off") << "\n";
   os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
   os << indent << "MaximumSamplesPerSurface: " << this->MaximumSamplesPerSurface << "\n";
-  os << indent << "MinimumSamplesPerSurface: " << this->MinimumSamplesPerSurface << "\n";
+  os << indent << "MaximumSampleSpacing: " << this->MaximumSampleSpacing << "\n";
   os << indent << "MinimumFeatureSize: " << this->MinimumFeatureSize << "\n";
   os << indent << "IncludeEmission: " << (this->IncludeEmission ? "On" : "Off") << "\n";
   os << indent << "ShooterIds:";

@@ -44,7 +44,7 @@
  * refined mesh, with the same arrays plus the cell array
  * `SamplingResidual` (3 components: the largest |true - interpolated|
  * radiance found at the triangle's last probes; -1 where the triangle was
- * not probed, i.e. on a surface sampled on a uniform grid; 0 on lines), which
+ * not probed; 0 on lines), which
  * vtkRadianceReconstructor turns into its error estimate, and the field
  * array `Evaluations`.
  *
@@ -125,14 +125,16 @@ public:
 
   ///@{
   /**
-   * A surface without shadow lines that adaptive sampling leaves with fewer
-   * samples than this (a dark or evenly lit surface) is sampled on a uniform
-   * grid of about this many points instead, so that light arriving later by
-   * interreflection (vtkProgressiveShooter) has samples to land on. Default
-   * 256, range [3, 100000000].
+   * Longest sample-triangle edge after adaptive sampling, as a fraction of
+   * the scene's bounding-box diagonal: longer edges are split whatever the
+   * shooters' radiance does there, so that light arriving later by
+   * interreflection (vtkProgressiveShooter), which varies where the direct
+   * light does not (in umbrae, on evenly lit or unlit surfaces), has
+   * samples to land on. 0 turns the limit off. Default 1/32 (the Cornell
+   * box: 3 cm), range [0, 1].
    */
-  vtkSetClampMacro(MinimumSamplesPerSurface, int, 3, 100000000);
-  vtkGetMacro(MinimumSamplesPerSurface, int);
+  vtkSetClampMacro(MaximumSampleSpacing, double, 0.0, 1.0);
+  vtkGetMacro(MaximumSampleSpacing, double);
   ///@}
 
   ///@{
@@ -194,7 +196,7 @@ protected:
   bool AdaptiveSampling = true;
   double SamplingTolerance = 0.002;
   int MaximumSamplesPerSurface = 200000;
-  int MinimumSamplesPerSurface = 256;
+  double MaximumSampleSpacing = 1.0 / 32.0;
   double MinimumFeatureSize = 1e-4;
   std::vector<vtkIdType> ShooterIds;
 

@@ -330,6 +330,39 @@ void TestLinear()
 }
 
 //------------------------------------------------------------------------------
+// MaximumEdgeLength: a linear function needs no sample, yet every edge of the
+// result is at most the limit (and the values stay exact: nothing else moves).
+void TestMaximumEdgeLength()
+{
+  const ReceiverMesh mesh = StripMesh({ 0.3, 0.7 }, { 1, 2 }, 3);
+  const auto f = Batch([](const Vec3& p) { return 1.0 + 2.0 * p.X - 0.5 * p.Y; }, nullptr);
+  AdaptiveSamplingSettings settings;
+  settings.MaximumEdgeLength = 0.07;
+  const AdaptiveSamplingResult r = SampleReceiver(mesh, f, settings);
+  double longest = 0.0, worst = 0.0;
+  for (const auto& tri : r.Mesh.Triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      longest = std::max(longest, Length(r.Mesh.Points[tri[k]] - r.Mesh.Points[tri[(k + 1) % 3]]));
+    }
+  }
+  for (double x : r.Probes.Residuals)
+  {
+    worst = std::max(worst, std::abs(x));
+  }
+  std::printf("maximum edge length 0.07: %d samples (%d initially), longest edge %.4f, max probe "
+              "residual %.3g\n",
+    r.Statistics.Samples, r.Statistics.InitialSamples, longest, worst);
+  PENUMBRA_EXPECT(r.Statistics.Converged);
+  PENUMBRA_EXPECT(longest <= 0.07 * (1.0 + 1e-12));
+  PENUMBRA_EXPECT(r.Statistics.Samples > 4 * r.Statistics.InitialSamples);
+  PENUMBRA_EXPECT(worst < 1e-8);
+  settings.MaximumEdgeLength = -1.0;
+  PENUMBRA_EXPECT_THROW(SampleReceiver(mesh, f, settings), InputError, "MaximumEdgeLength");
+}
+
+//------------------------------------------------------------------------------
 // Order-0 line: a step function across it is exact on both sides (each copy
 // of a point on the line evaluated inside its side), and refinement of a
 // smooth function around it keeps per-side values.
@@ -785,6 +818,7 @@ void TestBadInput()
 int main()
 {
   TestLinear();
+  TestMaximumEdgeLength();
   TestStep();
   TestBumpConvergence();
   TestBudgetAndDeterminism();

@@ -12,7 +12,7 @@ import pytest
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOImage import vtkPNGReader
 
-from conftest import BUILD_DIR, run_penumbra
+from conftest import BUILD_DIR, SOURCE_DIR, run_penumbra
 
 PVBATCH_SCRIPT = r'''
 import sys
@@ -34,33 +34,51 @@ print("SAVED")
 '''
 
 
-def _pvbatch_color(tmp_path, vtp, array):
+def _pvbatch(*arguments):
+    """Run pvbatch with ParaView's Python modules; returns its output."""
     pvbatch = shutil.which("pvbatch")
     assert pvbatch, "pvbatch missing: build.sh test installs Debian's paraview"
     modules = os.path.join(BUILD_DIR, "_deps", "python3-paraview", "usr", "lib", "python3",
                            "dist-packages")
     assert os.path.isdir(os.path.join(modules, "paraview")), "python3-paraview not unpacked"
-    script = tmp_path / "color.py"
-    script.write_text(PVBATCH_SCRIPT)
-    png = tmp_path / ("paraview-%s.png" % array)
     env = dict(os.environ, PYTHONPATH=modules)
-    result = subprocess.run([pvbatch, "--force-offscreen-rendering", str(script), str(vtp),
-                             str(png), array], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, universal_newlines=True, timeout=300)
+    result = subprocess.run([pvbatch, "--force-offscreen-rendering"] + [str(a) for a in arguments],
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            universal_newlines=True, timeout=300)
     assert result.returncode == 0, result.stdout
-    assert "SAVED" in result.stdout, result.stdout
-    arrays = [l for l in result.stdout.splitlines() if l.startswith("ARRAYS")][0]
+    return result.stdout
+
+
+def _pixels(png):
     reader = vtkPNGReader()
     reader.SetFileName(str(png))
     reader.Update()
-    pixels = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())
-    return arrays, {tuple(p[:3]) for p in pixels[::7]}
+    image = reader.GetOutput()
+    width, height, _ = image.GetDimensions()
+    # PNG rows are read bottom-up: flip to top-down.
+    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(height, width, -1)[::-1, :, :3]
 
 
-def test_pvbatch_colors_a_solution_by_radiance(tmp_path):
-    vtp = tmp_path / "cornell.vtp"
+def _pvbatch_color(tmp_path, vtp, array):
+    script = tmp_path / "color.py"
+    script.write_text(PVBATCH_SCRIPT)
+    png = tmp_path / ("paraview-%s.png" % array)
+    output = _pvbatch(script, vtp, png, array)
+    assert "SAVED" in output, output
+    arrays = [l for l in output.splitlines() if l.startswith("ARRAYS")][0]
+    pixels = _pixels(png).reshape(-1, 3)
+    return arrays, {tuple(p) for p in pixels[::7]}
+
+
+@pytest.fixture(scope="module")
+def cornell_solution(tmp_path_factory):
+    vtp = tmp_path_factory.mktemp("solution") / "cornell.vtp"
     assert run_penumbra("solve", "cornell", "-o", vtp, "--quiet").returncode == 0
-    arrays, colors = _pvbatch_color(tmp_path, vtp, "Radiance")
+    return vtp
+
+
+def test_pvbatch_colors_a_solution_by_radiance(tmp_path, cornell_solution):
+    arrays, colors = _pvbatch_color(tmp_path, cornell_solution, "Radiance")
     for name in ("Radiance", "RadianceErrorEstimate", "SurfaceId", "DiscontinuityOrder"):
         assert name in arrays
     # Smoothly varying radiance: many distinct colors.
@@ -80,3 +98,22 @@ def test_pvbatch_colors_a_scene_by_reflectance(tmp_path):
     assert "Reflectance" in arrays and "Emission" in arrays
     # One color per distinct reflectance magnitude, besides the background.
     assert len(colors) >= 4
+
+
+def test_paraview_example_renders_the_cornell_box_from_its_camera(tmp_path, cornell_solution):
+    script = os.path.join(SOURCE_DIR, "Examples", "ParaView", "render_cornell.py")
+    png = tmp_path / "cornell-paraview.png"
+    output = _pvbatch(script, cornell_solution, png)
+    assert "wrote" in output, output
+    pixels = _pixels(png).astype(float)
+    height, width, _ = pixels.shape
+    # From the Cornell camera: the red wall fills the left edge, the green
+    # wall the right edge, the back wall the centre, the light the top centre.
+    left = pixels[height // 2, : width // 20].mean(axis=0)
+    right = pixels[height // 2, -width // 20:].mean(axis=0)
+    centre = pixels[height // 3, width // 2]
+    light = pixels[int(0.14 * height), width // 2]
+    assert left[0] > 1.5 * left[1] and left[0] > 1.5 * left[2], left
+    assert right[1] > 1.3 * right[0] and right[1] > 1.3 * right[2], right
+    assert centre.min() > 60, centre
+    assert light.min() == 255, light
