@@ -11,6 +11,8 @@ triangles, as the data contract defines it) over each reference pixel's
 wall), the RMS, 99th percentile and maximum of |Penumbra - Mitsuba| relative
 to the sensor's mean reference radiance, over the valid (unmasked) pixels.
 Reference: Benchmarks/reference/cornell_reference.npz (see its README).
+Also draws the signed relative difference per pixel of each sensor into
+--out/cornell_error_map.png (default out: build/benchmarks).
 """
 import argparse
 import os
@@ -83,6 +85,7 @@ def main():
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--reference", default=os.path.join(HERE, "reference", "cornell_reference.npz"))
+    parser.add_argument("--out", default=os.path.join(os.path.dirname(HERE), "build", "benchmarks"))
     args = parser.parse_args()
     reference = np.load(args.reference, allow_pickle=True)
     times = []
@@ -98,6 +101,7 @@ def main():
                                                   field.GetArray("UnshotFraction").GetValue(0)))
     print("| sensor | pixels | RMS / mean | p99 / mean | max / mean | mean Penumbra / mean Mitsuba |")
     print("| --- | --- | --- | --- | --- | --- |")
+    maps = {}
     for name in reference["sensors"].item().split(","):
         cell_id = int(reference[name + "_cell_id"])
         ours = pixel_averages(result, cell_id, reference, name)
@@ -106,13 +110,34 @@ def main():
         difference = np.abs(ours[valid] - theirs[valid])
         mean = theirs[valid].mean(axis=0)
         relative = difference / mean
+        maps[name] = np.where(valid, (ours[..., 0] - theirs[..., 0]) / mean[0], np.nan)
         print("| %s | %d | %s | %s | %s | %s |" % (
             name, valid.sum(),
             " ".join("%.2f%%" % (100 * np.sqrt(np.mean(relative[:, c] ** 2))) for c in range(3)),
             " ".join("%.2f%%" % (100 * np.percentile(relative[:, c], 99)) for c in range(3)),
             " ".join("%.1f%%" % (100 * relative[:, c].max()) for c in range(3)),
             " ".join("%.4f" % (ours[valid][:, c].mean() / mean[c]) for c in range(3))))
+    draw_error_maps(maps, os.path.join(args.out, "cornell_error_map.png"))
     return 0
+
+
+def draw_error_maps(maps, path):
+    """Signed relative difference (Penumbra - Mitsuba) / mean, red channel."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    figure, axes = plt.subplots(1, len(maps), figsize=(5.5 * len(maps), 4.6))
+    for axis, (name, values) in zip(np.atleast_1d(axes), maps.items()):
+        image = axis.imshow(values, cmap="RdBu", vmin=-0.05, vmax=0.05, origin="lower")
+        axis.set_title("%s: (Penumbra - Mitsuba) / mean" % name)
+        axis.set_xlabel("pixel (1 cm)")
+        figure.colorbar(image, ax=axis, fraction=0.046)
+    figure.tight_layout()
+    figure.savefig(path, dpi=80)
+    plt.close(figure)
+    print("wrote %s" % path)
 
 
 if __name__ == "__main__":

@@ -171,6 +171,22 @@ void SplitTriangle(const Vec3 p[3], const RGB v[3], Vec3 cp[4][3], RGB cv[4][3])
   }
 }
 
+/// Power-weighted centroid of a triangle with linear radiance (corner
+/// values v); its centroid when the power nearly cancels.
+Vec3 PowerCentroid(const Vec3 p[3], const RGB v[3])
+{
+  // For a linear L over a triangle, int y L dA = A/12 (sum L)(sum p) + A/12 sum L_k p_k.
+  const double l[3] = { v[0].Mean(), v[1].Mean(), v[2].Mean() };
+  const double sum = l[0] + l[1] + l[2];
+  const double scale = std::abs(l[0]) + std::abs(l[1]) + std::abs(l[2]);
+  if (sum > 1e-9 * scale && sum > 0.0)
+  {
+    const Vec3 moment = (p[0] + p[1] + p[2]) * sum + p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
+    return moment / (4.0 * sum);
+  }
+  return (p[0] + p[1] + p[2]) / 3.0;
+}
+
 /// A leaf: the triangle, its power, power-weighted centroid and moments about `origin`.
 Leaf MakeLeaf(const Vec3 p[3], const RGB v[3], const Vec3& origin)
 {
@@ -183,19 +199,7 @@ Leaf MakeLeaf(const Vec3 p[3], const RGB v[3], const Vec3& origin)
   leaf.Area = 0.5 * Length(Cross(p[1] - p[0], p[2] - p[0]));
   leaf.Power = (v[0] + v[1] + v[2]) * (leaf.Area / 3.0);
   leaf.Weight = leaf.Power.Mean();
-  // For a linear L over a triangle, int y L dA = A/12 (sum L)(sum p) + A/12 sum L_k p_k.
-  const double l[3] = { v[0].Mean(), v[1].Mean(), v[2].Mean() };
-  const double sum = l[0] + l[1] + l[2];
-  const double scale = std::abs(l[0]) + std::abs(l[1]) + std::abs(l[2]);
-  if (sum > 1e-9 * scale && sum > 0.0)
-  {
-    const Vec3 moment = (p[0] + p[1] + p[2]) * sum + p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
-    leaf.Centroid = moment / (4.0 * sum);
-  }
-  else
-  {
-    leaf.Centroid = (p[0] + p[1] + p[2]) / 3.0;
-  }
+  leaf.Centroid = PowerCentroid(p, v);
   // Exact moments of a linear L = sum_k L_k lambda_k over the triangle, with
   // y - o = sum_i q_i lambda_i: int lambda_i lambda_k dA = A/12 (1 + [i=k]),
   // int lambda_i lambda_j lambda_k dA = A/60, A/30 or A/10 for 0, 2 or 3
@@ -312,6 +316,10 @@ void ProgressiveShooterSettings::Validate() const
   {
     fail("ExactPowerFraction must be in [0, inf], got " + std::to_string(this->ExactPowerFraction));
   }
+  if (!(this->CoarseShotFraction >= 0.0 && this->CoarseShotFraction <= 1.0))
+  {
+    fail("CoarseShotFraction must be in [0, 1], got " + std::to_string(this->CoarseShotFraction));
+  }
   if (!(this->OpeningAngle > 0.0 && this->OpeningAngle <= 2.0))
   {
     fail("OpeningAngle must be in (0, 2], got " + std::to_string(this->OpeningAngle));
@@ -356,6 +364,7 @@ struct ProgressiveShooter::Internal
     ShooterRadiance Radiance; ///< exact method: the triangles with unshot radiance
     std::vector<Leaf> Leaves; ///< fast method: the pieces of the shooter
     std::vector<Node> Nodes;  ///< fast method: the hierarchy (root = 0)
+    double OpeningAngle = 0.3; ///< fast method: this shot's opening angle
   };
 
   const OccluderSet& Occluders() const { return this->Exact.GetOccluders(); }
@@ -398,6 +407,7 @@ struct ProgressiveShooter::Internal
 
 void ProgressiveShooter::Internal::PrepareShot(int j, ShotMethod method, Shot& shot) const
 {
+  shot.OpeningAngle = this->Settings.OpeningAngle;
   const PreparedPolygon& poly = this->Occluders().GetPolygon(j);
   const SurfaceSamples& s = this->Samples[j];
   shot.Shooter = j;
@@ -539,7 +549,7 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
     return VisibleShooterIrradiance(x, n, shot.Radiance, region, shot.Normal, ws.Linear);
   }
   // Fast method. 1. Cut the hierarchy where nodes look small from x.
-  const double theta = this->Settings.OpeningAngle;
+  const double theta = shot.OpeningAngle;
   ws.Current.clear();
   ws.Stack.clear();
   ws.Stack.push_back(0);
@@ -667,13 +677,17 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
     {
       const Piece piece = ws.Pieces.back();
       ws.Pieces.pop_back();
-      const Vec3 centre = (piece.Points[0] + piece.Points[1] + piece.Points[2]) / 3.0;
-      const Leaf part = MakeLeaf(piece.Points, piece.Values, centre);
-      const Leaf* parts[1] = { &part };
-      const Node node = Aggregate(parts, 1, centre);
-      const double r2 = SquaredLength(node.Centroid - x);
-      if (node.Radius * node.Radius >= r2 && piece.Depth < NearDepth &&
-        node.Radius > 4.0 * originShift)
+      // The piece's centroid and radius as Aggregate would give them; its
+      // moments only where the expansion is used.
+      const Vec3 centroid = PowerCentroid(piece.Points, piece.Values);
+      double radius = 0.0;
+      for (const Vec3& p : piece.Points)
+      {
+        radius = std::max(radius, SquaredLength(p - centroid));
+      }
+      radius = std::sqrt(radius);
+      const double r2 = SquaredLength(centroid - x);
+      if (radius * radius >= r2 && piece.Depth < NearDepth && radius > 4.0 * originShift)
       {
         Vec3 cp[4][3];
         RGB cv[4][3];
@@ -685,8 +699,12 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
         }
         continue;
       }
-      if (node.Radius * node.Radius < theta * theta * r2)
+      if (radius * radius < theta * theta * r2)
       {
+        const Vec3 centre = (piece.Points[0] + piece.Points[1] + piece.Points[2]) / 3.0;
+        const Leaf part = MakeLeaf(piece.Points, piece.Values, centre);
+        const Leaf* parts[1] = { &part };
+        const Node node = Aggregate(parts, 1, centre);
         const RGB e = this->NodeIrradiance(shot, node, x, n);
         if (!e.IsZero())
         {
@@ -1172,6 +1190,11 @@ ShotRecord ProgressiveShooter::Shoot(int shooterId, ShotMethod method)
   {
     Internal::Shot shot;
     I.PrepareShot(shooterId, method, shot);
+    const double coarse = I.Settings.CoarseShotFraction * this->GetReferencePower();
+    if (record.Power.Mean() > 0.0 && record.Power.Mean() < coarse)
+    {
+      shot.OpeningAngle *= std::min(2.0, std::sqrt(coarse / record.Power.Mean()));
+    }
 
     // Receivers that can exchange light with the shooter, their shaft
     // candidates, and one work item per sample.

@@ -194,6 +194,14 @@ struct ProgressiveShooterSettings
   /// nodes used grows about as 1 / OpeningAngle^2); see the file comment
   /// for measured figures. [0.3], in (0, 2]
   double OpeningAngle = 0.3;
+  /// Fast method: shots weaker than this fraction f of the reference power
+  /// are computed coarser, their error mattering less: a shot of power S
+  /// uses the opening angle OpeningAngle * min(2, sqrt(f * reference / S)).
+  /// (The error of a fast shot grows about linearly with the opening angle
+  /// where visibility dominates it, as its cube where the truncation of the
+  /// expansion does, while its cost falls as its square; hence the cap.)
+  /// [0 = off], in [0, 1]
+  double CoarseShotFraction = 0.0;
   /// Fast method: shooter triangles whose longest edge exceeds this
   /// fraction of the shooter's diameter are split in four, recursively,
   /// before the hierarchy is built: it bounds the size of the leaves, hence

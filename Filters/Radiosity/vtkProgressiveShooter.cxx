@@ -87,6 +87,7 @@ int vtkProgressiveShooter::RequestData(
   settings.MaximumShots = this->MaximumShots;
   settings.ExactPowerFraction = this->ExactPowerFraction;
   settings.OpeningAngle = this->OpeningAngle;
+  settings.CoarseShotFraction = this->CoarseShotFraction;
 
   // Per surface: its samples in local numbering; global ids to write back.
   std::unordered_map<int, penumbra::SurfaceSamples> bySurface;
@@ -219,4 +220,5 @@ void vtkProgressiveShooter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumShots: " << this->MaximumShots << "\n";
   os << indent << "ExactPowerFraction: " << this->ExactPowerFraction << "\n";
   os << indent << "OpeningAngle: " << this->OpeningAngle << "\n";
+  os << indent << "CoarseShotFraction: " << this->CoarseShotFraction << "\n";
 }
