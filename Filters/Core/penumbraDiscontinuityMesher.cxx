@@ -27,6 +27,8 @@ constexpr double kVertexMatch = 1e-9; // vertices closer than this are one featu
 constexpr double kLinear = 1e-10;     // side tests of points against planes
 constexpr double kSnap = 1e-10;       // 2D snapping of constraint end points
 constexpr double kMinPiece = 1e-7;    // shorter boundary pieces are dropped
+constexpr double kChordMargin = 1e-6; // receiver chords lengthened by this before culling wedges
+constexpr std::size_t kScanLimit = 64; // up to this many shaft candidates, scan them instead of the BVH
 constexpr double kAngle = 1e-9;       // |sin| below which directions count as in a plane
 constexpr double kMaxMinimumAngle = 20.6;
 
@@ -91,6 +93,30 @@ void Normalize(std::vector<Interval>& list)
     }
   }
   list.resize(n);
+}
+
+// The intersection of two normalized lists.
+void Intersect(const std::vector<Interval>& a, const std::vector<Interval>& b,
+  std::vector<Interval>& out)
+{
+  out.clear();
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size())
+  {
+    const double lo = std::max(a[i].Lo, b[j].Lo), hi = std::min(a[i].Hi, b[j].Hi);
+    if (hi > lo)
+    {
+      out.push_back({ lo, hi });
+    }
+    if (a[i].Hi < b[j].Hi)
+    {
+      ++i;
+    }
+    else
+    {
+      ++j;
+    }
+  }
 }
 
 // base minus the union of `blocked` (normalized).
@@ -817,6 +843,10 @@ struct DiscontinuityMesher::Internal
   std::vector<std::array<int, 2>> EdgeClusters;
   std::vector<std::vector<int>> ComponentPolygons;
   std::vector<std::vector<int>> ComponentOpenEdges; ///< edges not shared by exactly two polygons
+  /// (surface, emitted power) of every surface with positive power, and their
+  /// total: computed once, as every receiver selects its shooters.
+  std::vector<std::pair<int, double>> EmitterPower;
+  double TotalPower = 0.0;
   double Size = 1.0;
 
   explicit Internal(const Scene& scene);
@@ -924,6 +954,15 @@ DiscontinuityMesher::Internal::Internal(const Scene& scene)
       }
       p.Cluster[i] = found;
       this->ClusterUses[found].push_back({ static_cast<int>(k), static_cast<int>(i) });
+    }
+  }
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    const double power = scene.Surfaces[k].Emission.Mean() * M_PI * this->Polygons[k].Area;
+    this->TotalPower += power;
+    if (power > 0.0)
+    {
+      this->EmitterPower.emplace_back(static_cast<int>(k), power);
     }
   }
   // Edges: identified by their (unordered) pair of end clusters.
@@ -1052,18 +1091,11 @@ std::vector<int> DiscontinuityMesher::Internal::Select(
   }
   else
   {
-    double total = 0.0;
-    std::vector<double> power(count, 0.0);
-    for (int k = 0; k < count; ++k)
+    for (const std::pair<int, double>& emitter : this->EmitterPower)
     {
-      power[k] = this->SceneCopy.Surfaces[k].Emission.Mean() * M_PI * this->Polygons[k].Area;
-      total += power[k];
-    }
-    for (int k = 0; k < count; ++k)
-    {
-      if (power[k] > 0.0 && power[k] >= settings.ShooterPowerFraction * total)
+      if (emitter.second >= settings.ShooterPowerFraction * this->TotalPower)
       {
-        shooters.push_back(k);
+        shooters.push_back(emitter.first);
       }
     }
   }
@@ -1283,9 +1315,12 @@ struct PairContext
   int ShooterId = -1;
   int ReceiverId = -1;
   std::vector<int>* Scratch = nullptr; ///< blocker candidates of the current wedge
+  const std::vector<int>* Candidates = nullptr; ///< the pair's shaft candidates
+  bool Cull = true;      ///< DiscontinuityMeshSettings::CullWedges
   double Tol = 0.0;      ///< linear tolerance
   Vec3 ReceiverCentre;   ///< for bounding the wedge's reach
   double ReceiverRadius = 0.0;
+  double Margin = 0.0;   ///< lengthening of the receiver's chords (far above Tol)
 };
 
 enum class WedgeKind
@@ -1409,7 +1444,7 @@ bool ClipChord(Vec3& a, Vec3& b, const HalfSpace* h, int count)
  * conditions on t except blocking are linear in t; blocking chords map to
  * t-intervals by central projection from the apex.
  */
-void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Vec3, Vec3>>& out)
+bool TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Vec3, Vec3>>& out)
 {
   out.clear();
   const double tol = ctx.Tol;
@@ -1417,7 +1452,7 @@ void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
   const double len = Length(gd);
   if (!(len > tol))
   {
-    return;
+    return false;
   }
   const Vec3 u = gd / len;
   const Vec3 w0 = w.G0 - w.P;
@@ -1426,7 +1461,7 @@ void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
   const double h = Length(wv);
   if (!(h > tol))
   {
-    return; // apex on the generator's line
+    return false; // apex on the generator's line
   }
   const Vec3 wn = wv / h; // in-plane, from the apex towards the generator line
   const PolygonData& rec = *ctx.Receiver;
@@ -1513,7 +1548,70 @@ void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
   Normalize(valid);
   if (valid.empty())
   {
-    return;
+    return false;
+  }
+  // Only the lines that meet the receiver polygon can leave a boundary on it
+  // (the pieces are clipped to it afterwards), so before looking for
+  // blockers: a receiver entirely on one side of the wedge plane (farther
+  // than the snapping distance, so not even an outline piece could remain)
+  // gets nothing, and otherwise t is restricted to the central projection of
+  // the receiver's chords in the wedge plane. Most wedges miss a small
+  // receiver entirely and stop here. Each chord is lengthened by ctx.Margin
+  // so that the pieces still end where the 2D clip against R's outline puts
+  // them, not at a rounded projection.
+  {
+    bool above = !ctx.Cull, below = !ctx.Cull;
+    for (const Vec3& v : rec.V)
+    {
+      const double d = Dot(w.M, v - w.P);
+      above = above || d >= -tol;
+      below = below || d <= tol;
+    }
+    if (!above || !below)
+    {
+      return false;
+    }
+    thread_local std::vector<std::pair<Vec3, Vec3>> receiverChords;
+    thread_local std::vector<Interval> reach, restricted;
+    PlaneChords(rec, w.M, w.P, tol, receiverChords);
+    reach.clear();
+    for (const auto& chord : receiverChords)
+    {
+      const Vec3 along = chord.second - chord.first;
+      const double chordLength = Length(along);
+      const Vec3 pad = chordLength > 0.0 ? (ctx.Margin / chordLength) * along : Vec3();
+      for (int side = 0; side < 2; ++side)
+      {
+        // EV lines reach R beyond the generator, VE lines behind the apex;
+        // occluder EV lines may do either.
+        if ((w.Kind == WedgeKind::EV && side == 1) || (w.Kind == WedgeKind::VE && side == 0))
+        {
+          continue;
+        }
+        const HalfSpace hs = side == 0 ? HalfSpace{ wn, Dot(wn, w.P) + tol }
+                                       : HalfSpace{ -wn, -Dot(wn, w.P) + tol };
+        Vec3 c0 = chord.first - pad, c1 = chord.second + pad;
+        if (!ClipChord(c0, c1, &hs, 1))
+        {
+          continue;
+        }
+        const double t0 = (Dot(c0 - w.P, u) * h / Dot(c0 - w.P, wn) - g0) / len;
+        const double t1 = (Dot(c1 - w.P, u) * h / Dot(c1 - w.P, wn) - g0) / len;
+        reach.push_back({ std::min(t0, t1), std::max(t0, t1) });
+      }
+    }
+    // No chord although R meets the plane within tolerance (R nearly in the
+    // wedge plane, or touching it): no restriction.
+    if (ctx.Cull && !receiverChords.empty())
+    {
+      Normalize(reach);
+      Intersect(valid, reach, restricted);
+      valid.swap(restricted);
+      if (valid.empty())
+      {
+        return false;
+      }
+    }
   }
 
   // Blocker candidates: the polygons crossing the wedge plane inside the box
@@ -1595,8 +1693,18 @@ void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
       const Vec3 at = w.P + hull[i][0] * u + hull[i][1] * wn;
       volume.Planes.push_back({ inward, Dot(inward, at) - tol });
     }
+    // Blockers lie on event lines, inside the shaft: among few shaft
+    // candidates a scan is cheaper than a BVH traversal.
     ctx.Scratch->clear();
-    ctx.Occluders->VolumeCandidates(volume, ctx.ShooterId, ctx.ReceiverId, *ctx.Scratch);
+    if (ctx.Cull && ctx.Candidates->size() <= kScanLimit)
+    {
+      ctx.Occluders->FilterCandidates(volume, ctx.Candidates->data(),
+        static_cast<int>(ctx.Candidates->size()), ctx.ShooterId, ctx.ReceiverId, *ctx.Scratch);
+    }
+    else
+    {
+      ctx.Occluders->VolumeCandidates(volume, ctx.ShooterId, ctx.ReceiverId, *ctx.Scratch);
+    }
   }
 
   // Blockers: each candidate's chords in the wedge plane, clipped to the part
@@ -1663,6 +1771,7 @@ void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
     };
     out.push_back({ receiverPoint(iv.Lo), receiverPoint(iv.Hi) });
   }
+  return true;
 }
 
 } // namespace
@@ -1672,7 +1781,8 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
   DiscontinuityMeshStatistics& stats) const
 {
   std::vector<int> candidates;
-  if (!this->Occluders.ShaftCandidates(shooterId, receiverId, candidates))
+  CullingVolume shaft;
+  if (!this->Occluders.ShaftCandidates(shooterId, receiverId, candidates, &shaft))
   {
     return;
   }
@@ -1694,7 +1804,10 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
   ctx.ReceiverId = receiverId;
   std::vector<int> scratch;
   ctx.Scratch = &scratch;
+  ctx.Candidates = &candidates;
+  ctx.Cull = settings.CullWedges;
   ctx.Tol = tol;
+  ctx.Margin = kChordMargin * this->Size;
   ctx.ReceiverCentre = rec.Centroid;
   for (const Vec3& v : rec.V)
   {
@@ -1720,7 +1833,30 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
   std::sort(vertices.begin(), vertices.end());
   vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
   // Keep only features usable as occluders of this pair: not lying in the
-  // receiver's plane (contacts), partly in front of the shooter and receiver.
+  // receiver's plane (contacts), partly in front of the shooter and receiver,
+  // and meeting the shaft. Every event line runs from a receiving point to a
+  // shooter point through its features, so a feature entirely outside the
+  // convex hull of shooter and receiver (the shaft) is on no event line,
+  // although its polygon may cross the shaft.
+  auto outsideShaft = [&](const Vec3* points, int count) {
+    if (!settings.CullWedges)
+    {
+      return false;
+    }
+    for (const Plane& plane : shaft.Planes)
+    {
+      bool outside = true;
+      for (int k = 0; k < count && outside; ++k)
+      {
+        outside = Dot(plane.Normal, points[k]) < plane.Offset - tol;
+      }
+      if (outside)
+      {
+        return true;
+      }
+    }
+    return false;
+  };
   auto edgeEnds = [&](int e, Vec3& a, Vec3& b) {
     a = this->ClusterPoint[this->EdgeClusters[e][0]];
     b = this->ClusterPoint[this->EdgeClusters[e][1]];
@@ -1738,13 +1874,18 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
     {
       continue;
     }
+    const Vec3 ends[2] = { a, b };
+    if (outsideShaft(ends, 2))
+    {
+      continue;
+    }
     usableEdges.push_back(e);
   }
   std::vector<int> usableVertices;
   for (int c : vertices)
   {
     const Vec3& p = this->ClusterPoint[c];
-    if (distR(p) > contactTol && distS(p) > tol)
+    if (distR(p) > contactTol && distS(p) > tol && !outsideShaft(&p, 1))
     {
       usableVertices.push_back(c);
     }
@@ -1808,8 +1949,10 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
   std::vector<std::pair<Vec3, Vec3>> traced;
   std::vector<Interval> pieces;
   auto emit = [&](const Wedge& w, int order, int occluderA, int occluderB) {
-    ++stats.Wedges;
-    TraceWedge(ctx, w, traced);
+    if (TraceWedge(ctx, w, traced))
+    {
+      ++stats.Wedges;
+    }
     for (const auto& seg : traced)
     {
       const P2 a = frame.To2D(seg.first), b = frame.To2D(seg.second);
@@ -1911,23 +2054,32 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
   // Occluder EV: vertex of one occluder x edge of another, wedge cutting the shooter.
   if (settings.OccluderOccluderEvents)
   {
-    // Generators for an apex w: edges meeting the double cone of lines through
-    // w and the shooter (its convex hull), on the shooter's side of w or on
-    // the receiver's side; found in the BVH, one query per nappe.
+    // Generators for an apex w lie on lines through w that hit both the
+    // shooter and the receiver (their convex hulls): between w and the
+    // shooter on lines continuing from w to the receiver (case A of
+    // TraceWedge), or between w and the receiver on lines continuing from w
+    // to the shooter (case B). Each case is the intersection of the cone from
+    // w to one polygon with the reflected cone of the other, found in the BVH
+    // with one query per case. Bounding by the receiver's cone too keeps the
+    // cost per small receiver independent of how many polygons the shooter's
+    // cone crosses.
     const PreparedPolygon& shp = this->Occluders.GetPolygon(shooterId);
-    const Vec3* hull = this->Occluders.GetHullVertices().data() + shp.FirstHullPoint;
-    const int nh = shp.NumberOfHullPoints;
-    Vec3 shLo = hull[0], shHi = hull[0], recLo = rec.V[0], recHi = rec.V[0];
-    for (int i = 0; i < nh; ++i)
-    {
-      shLo = Vec3(std::min(shLo.X, hull[i].X), std::min(shLo.Y, hull[i].Y), std::min(shLo.Z, hull[i].Z));
-      shHi = Vec3(std::max(shHi.X, hull[i].X), std::max(shHi.Y, hull[i].Y), std::max(shHi.Z, hull[i].Z));
-    }
-    for (const Vec3& v : rec.V)
-    {
-      recLo = Vec3(std::min(recLo.X, v.X), std::min(recLo.Y, v.Y), std::min(recLo.Z, v.Z));
-      recHi = Vec3(std::max(recHi.X, v.X), std::max(recHi.Y, v.Y), std::max(recHi.Z, v.Z));
-    }
+    const PreparedPolygon& recp = this->Occluders.GetPolygon(receiverId);
+    const Vec3* shHull = this->Occluders.GetHullVertices().data() + shp.FirstHullPoint;
+    const Vec3* recHull = this->Occluders.GetHullVertices().data() + recp.FirstHullPoint;
+    auto addCone = [&](const Vec3* hull, int count, const Vec3& centre, const Vec3& apex,
+                     bool reflected, CullingVolume& cone) {
+      for (int i = 0; i < count; ++i)
+      {
+        const Vec3 a = hull[i], b = hull[(i + 1) % count];
+        Vec3 n = Normalized(Cross(b - a, apex - a));
+        if ((Dot(n, centre - apex) < 0.0) != reflected)
+        {
+          n = -n;
+        }
+        cone.Planes.push_back({ n, Dot(n, apex) - tol });
+      }
+    };
     std::vector<int> found, generators;
     for (int c : usableVertices)
     {
@@ -1935,29 +2087,31 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
       generators.clear();
       for (int nappe = 0; nappe < 2; ++nappe)
       {
+        // nappe 0: between the apex and the shooter; 1: between the apex and the receiver.
         CullingVolume cone;
-        const Vec3 lo = nappe == 0 ? shLo : recLo, hi = nappe == 0 ? shHi : recHi;
-        cone.BoxMin = Vec3(std::min(lo.X, apex.X), std::min(lo.Y, apex.Y), std::min(lo.Z, apex.Z)) -
-          Vec3(tol, tol, tol);
-        cone.BoxMax = Vec3(std::max(hi.X, apex.X), std::max(hi.Y, apex.Y), std::max(hi.Z, apex.Z)) +
-          Vec3(tol, tol, tol);
-        for (int i = 0; i < nh; ++i)
+        const PreparedPolygon& towards = nappe == 0 ? shp : recp;
+        cone.BoxMin = Vec3(std::min(towards.BoundsMin.X, apex.X), std::min(towards.BoundsMin.Y, apex.Y),
+                        std::min(towards.BoundsMin.Z, apex.Z)) - Vec3(tol, tol, tol);
+        cone.BoxMax = Vec3(std::max(towards.BoundsMax.X, apex.X), std::max(towards.BoundsMax.Y, apex.Y),
+                        std::max(towards.BoundsMax.Z, apex.Z)) + Vec3(tol, tol, tol);
+        addCone(shHull, shp.NumberOfHullPoints, shp.Centroid, apex, nappe == 1, cone);
+        if (settings.CullWedges)
         {
-          const Vec3 a = hull[i], b = hull[(i + 1) % nh];
-          Vec3 n = Normalized(Cross(b - a, apex - a));
-          if (Dot(n, shp.Centroid - apex) < 0.0)
-          {
-            n = -n;
-          }
-          if (nappe == 1)
-          {
-            n = -n;
-          }
-          cone.Planes.push_back({ n, Dot(n, apex) - tol });
+          addCone(recHull, recp.NumberOfHullPoints, recp.Centroid, apex, nappe == 0, cone);
         }
         cone.Planes.push_back(nappe == 0 ? Plane{ sh.N, sh.D - tol } : Plane{ rec.N, rec.D - tol });
+        // Generators lie on event lines, inside the shaft: among few shaft
+        // candidates a scan is cheaper than a BVH traversal.
         found.clear();
-        this->Occluders.VolumeCandidates(cone, shooterId, receiverId, found);
+        if (settings.CullWedges && candidates.size() <= kScanLimit)
+        {
+          this->Occluders.FilterCandidates(cone, candidates.data(),
+            static_cast<int>(candidates.size()), shooterId, receiverId, found);
+        }
+        else
+        {
+          this->Occluders.VolumeCandidates(cone, shooterId, receiverId, found);
+        }
         for (int k : found)
         {
           for (int e : this->Polygons[k].Edge)
