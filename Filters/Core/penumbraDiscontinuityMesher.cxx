@@ -871,8 +871,12 @@ struct DiscontinuityMesher::Internal
     const Frame& frame, DiscontinuityMeshStatistics& stats) const;
   void AddContacts(int receiverId, const DiscontinuityMeshSettings& settings, const Frame& frame,
     std::vector<Segment2>& out, DiscontinuityMeshStatistics& stats) const;
+  /// The radiance (mean of RGB) of a shooter used by the jump threshold.
+  double JumpRadiance(const DiscontinuityMeshSettings& settings, int shooter) const;
+  /// `minimumJump`: the jump below which shadows are dropped (< 0: none).
   void AddShadows(int receiverId, int shooterId, const DiscontinuityMeshSettings& settings,
-    const Frame& frame, std::vector<Segment2>& out, DiscontinuityMeshStatistics& stats) const;
+    double minimumJump, const Frame& frame, std::vector<Segment2>& out,
+    DiscontinuityMeshStatistics& stats) const;
   std::vector<detail::Constraint2D> Constraints(int receiverId,
     const DiscontinuityMeshSettings& settings, const Frame& frame,
     DiscontinuityMeshStatistics& stats) const;
@@ -1776,9 +1780,25 @@ bool TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
 
 } // namespace
 
+double DiscontinuityMesher::Internal::JumpRadiance(
+  const DiscontinuityMeshSettings& settings, int shooter) const
+{
+  if (!settings.ShooterRadiance.empty())
+  {
+    for (std::size_t k = 0; k < settings.Shooters.size(); ++k)
+    {
+      if (settings.Shooters[k] == shooter)
+      {
+        return settings.ShooterRadiance[k].Mean();
+      }
+    }
+  }
+  return this->SceneCopy.Surfaces[shooter].Emission.Mean();
+}
+
 void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
-  const DiscontinuityMeshSettings& settings, const Frame& frame, std::vector<Segment2>& out,
-  DiscontinuityMeshStatistics& stats) const
+  const DiscontinuityMeshSettings& settings, double minimumJump, const Frame& frame,
+  std::vector<Segment2>& out, DiscontinuityMeshStatistics& stats) const
 {
   std::vector<int> candidates;
   CullingVolume shaft;
@@ -1948,7 +1968,44 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
 
   std::vector<std::pair<Vec3, Vec3>> traced;
   std::vector<Interval> pieces;
+  // With a jump threshold, a wedge is not traced when even an upper bound of
+  // the jump its pieces would get is below the minimum: the jump at a point
+  // x of R is Ls min(F_occluders(x), F_S(x)) (see Boundaries), and a form
+  // factor F(x) of a polygon of area A is at most A / (pi d^2), d the
+  // distance between R and the polygon (bounded below by their centres'
+  // distance minus their radii), and at most 1.
+  const double shooterRadiance = this->JumpRadiance(settings, shooterId);
+  auto formFactorBound = [&](int polygon) {
+    const PolygonData& p = this->Polygons[polygon];
+    double radius = 0.0;
+    for (const Vec3& v : p.V)
+    {
+      radius = std::max(radius, Length(v - p.Centroid));
+    }
+    const double d = Length(p.Centroid - rec.Centroid) - radius - ctx.ReceiverRadius;
+    return d > 0.0 ? std::min(1.0, p.Area / (M_PI * d * d)) : 1.0;
+  };
+  auto faint = [&](int occluderA, int occluderB) {
+    if (!(minimumJump >= 0.0 && settings.CullWedges))
+    {
+      return false;
+    }
+    double bound = formFactorBound(shooterId);
+    for (int k : { occluderA, occluderB })
+    {
+      if (k >= 0)
+      {
+        bound = std::min(bound, formFactorBound(k));
+      }
+    }
+    // The margin keeps rounding from dropping a wedge at the threshold.
+    return shooterRadiance * bound * (1.0 + 1e-9) < minimumJump;
+  };
   auto emit = [&](const Wedge& w, int order, int occluderA, int occluderB) {
+    if (faint(occluderA, occluderB))
+    {
+      return;
+    }
     if (TraceWedge(ctx, w, traced))
     {
       ++stats.Wedges;
@@ -2313,41 +2370,23 @@ std::vector<Segment2> DiscontinuityMesher::Internal::Boundaries(int receiverId,
   }
   const std::vector<int> shooters = this->Select(settings);
   const std::size_t firstShadow = segments.size();
-  for (int s : shooters)
-  {
-    if (s != receiverId)
+  const PolygonData& rec = this->Polygons[receiverId];
+  auto formFactor = [&](const Vec3& x, int polygon, bool twoSided) {
+    const std::vector<Vec3>& v = this->Polygons[polygon].V;
+    double f = PointPolygonFormFactorClipped(x, rec.N, v);
+    if (twoSided)
     {
-      this->AddShadows(receiverId, s, settings, frame, segments, stats);
+      std::vector<Vec3> reversed(v.rbegin(), v.rend());
+      f = std::max(f, PointPolygonFormFactorClipped(x, rec.N, reversed));
     }
-  }
-  if (settings.JumpThreshold > 0.0 && segments.size() > firstShadow)
+    return f;
+  };
+  // The jump threshold's reference: the largest unoccluded direct radiance
+  // over the receiver (sum over shooters). Shadows whose jump cannot reach
+  // JumpThreshold times it are not even traced (see AddShadows).
+  double minimumJump = -1.0;
+  if (settings.JumpThreshold > 0.0)
   {
-    // Radiance used for each shooter (mean of RGB).
-    const PolygonData& rec = this->Polygons[receiverId];
-    auto radianceOf = [&](int shooter) {
-      if (!settings.ShooterRadiance.empty())
-      {
-        for (std::size_t k = 0; k < settings.Shooters.size(); ++k)
-        {
-          if (settings.Shooters[k] == shooter)
-          {
-            return settings.ShooterRadiance[k].Mean();
-          }
-        }
-      }
-      return this->SceneCopy.Surfaces[shooter].Emission.Mean();
-    };
-    auto formFactor = [&](const Vec3& x, int polygon, bool twoSided) {
-      const std::vector<Vec3>& v = this->Polygons[polygon].V;
-      double f = PointPolygonFormFactorClipped(x, rec.N, v);
-      if (twoSided)
-      {
-        std::vector<Vec3> reversed(v.rbegin(), v.rend());
-        f = std::max(f, PointPolygonFormFactorClipped(x, rec.N, reversed));
-      }
-      return f;
-    };
-    // Largest unoccluded direct radiance over the receiver (sum over shooters).
     std::vector<Vec3> samples = { rec.Centroid };
     for (const Vec3& v : rec.V)
     {
@@ -2361,11 +2400,23 @@ std::vector<Segment2> DiscontinuityMesher::Internal::Boundaries(int receiverId,
       {
         if (s != receiverId)
         {
-          sum += radianceOf(s) * formFactor(x, s, false);
+          sum += this->JumpRadiance(settings, s) * formFactor(x, s, false);
         }
       }
       reference = std::max(reference, sum);
     }
+    minimumJump = reference > 0.0 ? settings.JumpThreshold * reference
+                                  : std::numeric_limits<double>::infinity();
+  }
+  for (int s : shooters)
+  {
+    if (s != receiverId)
+    {
+      this->AddShadows(receiverId, s, settings, minimumJump, frame, segments, stats);
+    }
+  }
+  if (minimumJump >= 0.0 && segments.size() > firstShadow)
+  {
     std::size_t write = firstShadow;
     for (std::size_t k = firstShadow; k < segments.size(); ++k)
     {
@@ -2380,8 +2431,8 @@ std::vector<Segment2> DiscontinuityMesher::Internal::Boundaries(int receiverId,
         {
           fo = std::min(fo, formFactor(mid, s.OccluderB, true));
         }
-        const double jump = radianceOf(s.SourceId) * std::min(fo, fs);
-        keep = reference > 0.0 && jump >= settings.JumpThreshold * reference;
+        const double jump = this->JumpRadiance(settings, s.SourceId) * std::min(fo, fs);
+        keep = jump >= minimumJump;
       }
       if (keep)
       {

@@ -98,7 +98,11 @@
  *   Ls * min(F_occluder, F_shooter) at its midpoint (form factors from R's
  *   normal, Ls the mean shooter radiance) relative to the largest
  *   unoccluded direct radiance sum_S Ls F_S over R (sampled at its centroid
- *   and near its vertices); R's reflectance cancels out.
+ *   and near its vertices); R's reflectance cancels out. With CullWedges, a
+ *   wedge whose jump is below the threshold even with the form factors
+ *   bounded over all of R (F <= min(1, A / (pi d^2)), d the distance between
+ *   R and the polygon of area A) is not traced at all, so faint boundaries
+ *   of weak or distant shooters cost nothing.
  *
  * Left out (documented limitations): EEE events (three edges in general
  * position, their quadric surfaces) are not generated (only the degenerate,
@@ -233,7 +237,7 @@ struct DiscontinuityMeshStatistics
   std::size_t Pairs = 0;              ///< (shooter, receiver) pairs exchanging light
   std::size_t CandidateOccluders = 0; ///< shaft candidates summed over pairs
   std::size_t Wedges = 0;             ///< wedges traced (that reached the visibility test after culling)
-  std::size_t SegmentsGenerated = 0;  ///< shadow-boundary pieces found on receivers
+  std::size_t SegmentsGenerated = 0;  ///< shadow-boundary pieces found on receivers (traced wedges)
   std::size_t SegmentsKept = 0;       ///< of those, kept by the jump threshold
   std::size_t ContactSegments = 0;    ///< contact pieces (order 0) on receivers
   std::size_t Constraints = 0;        ///< constraints inserted (after merging collinear pieces)
