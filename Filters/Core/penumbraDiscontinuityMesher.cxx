@@ -27,6 +27,8 @@ constexpr double kVertexMatch = 1e-9; // vertices closer than this are one featu
 constexpr double kLinear = 1e-10;     // side tests of points against planes
 constexpr double kSnap = 1e-10;       // 2D snapping of constraint end points
 constexpr double kMinPiece = 1e-7;    // shorter boundary pieces are dropped
+constexpr double kChordMargin = 1e-6; // receiver chords lengthened by this before culling wedges
+constexpr std::size_t kScanLimit = 64; // up to this many shaft candidates, scan them instead of the BVH
 constexpr double kAngle = 1e-9;       // |sin| below which directions count as in a plane
 constexpr double kMaxMinimumAngle = 20.6;
 
@@ -91,6 +93,30 @@ void Normalize(std::vector<Interval>& list)
     }
   }
   list.resize(n);
+}
+
+// The intersection of two normalized lists.
+void Intersect(const std::vector<Interval>& a, const std::vector<Interval>& b,
+  std::vector<Interval>& out)
+{
+  out.clear();
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size())
+  {
+    const double lo = std::max(a[i].Lo, b[j].Lo), hi = std::min(a[i].Hi, b[j].Hi);
+    if (hi > lo)
+    {
+      out.push_back({ lo, hi });
+    }
+    if (a[i].Hi < b[j].Hi)
+    {
+      ++i;
+    }
+    else
+    {
+      ++j;
+    }
+  }
 }
 
 // base minus the union of `blocked` (normalized).
@@ -817,6 +843,10 @@ struct DiscontinuityMesher::Internal
   std::vector<std::array<int, 2>> EdgeClusters;
   std::vector<std::vector<int>> ComponentPolygons;
   std::vector<std::vector<int>> ComponentOpenEdges; ///< edges not shared by exactly two polygons
+  /// (surface, emitted power) of every surface with positive power, and their
+  /// total: computed once, as every receiver selects its shooters.
+  std::vector<std::pair<int, double>> EmitterPower;
+  double TotalPower = 0.0;
   double Size = 1.0;
 
   explicit Internal(const Scene& scene);
@@ -841,8 +871,12 @@ struct DiscontinuityMesher::Internal
     const Frame& frame, DiscontinuityMeshStatistics& stats) const;
   void AddContacts(int receiverId, const DiscontinuityMeshSettings& settings, const Frame& frame,
     std::vector<Segment2>& out, DiscontinuityMeshStatistics& stats) const;
+  /// The radiance (mean of RGB) of a shooter used by the jump threshold.
+  double JumpRadiance(const DiscontinuityMeshSettings& settings, int shooter) const;
+  /// `minimumJump`: the jump below which shadows are dropped (< 0: none).
   void AddShadows(int receiverId, int shooterId, const DiscontinuityMeshSettings& settings,
-    const Frame& frame, std::vector<Segment2>& out, DiscontinuityMeshStatistics& stats) const;
+    double minimumJump, const Frame& frame, std::vector<Segment2>& out,
+    DiscontinuityMeshStatistics& stats) const;
   std::vector<detail::Constraint2D> Constraints(int receiverId,
     const DiscontinuityMeshSettings& settings, const Frame& frame,
     DiscontinuityMeshStatistics& stats) const;
@@ -924,6 +958,15 @@ DiscontinuityMesher::Internal::Internal(const Scene& scene)
       }
       p.Cluster[i] = found;
       this->ClusterUses[found].push_back({ static_cast<int>(k), static_cast<int>(i) });
+    }
+  }
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    const double power = scene.Surfaces[k].Emission.Mean() * M_PI * this->Polygons[k].Area;
+    this->TotalPower += power;
+    if (power > 0.0)
+    {
+      this->EmitterPower.emplace_back(static_cast<int>(k), power);
     }
   }
   // Edges: identified by their (unordered) pair of end clusters.
@@ -1052,18 +1095,11 @@ std::vector<int> DiscontinuityMesher::Internal::Select(
   }
   else
   {
-    double total = 0.0;
-    std::vector<double> power(count, 0.0);
-    for (int k = 0; k < count; ++k)
+    for (const std::pair<int, double>& emitter : this->EmitterPower)
     {
-      power[k] = this->SceneCopy.Surfaces[k].Emission.Mean() * M_PI * this->Polygons[k].Area;
-      total += power[k];
-    }
-    for (int k = 0; k < count; ++k)
-    {
-      if (power[k] > 0.0 && power[k] >= settings.ShooterPowerFraction * total)
+      if (emitter.second >= settings.ShooterPowerFraction * this->TotalPower)
       {
-        shooters.push_back(k);
+        shooters.push_back(emitter.first);
       }
     }
   }
@@ -1283,9 +1319,12 @@ struct PairContext
   int ShooterId = -1;
   int ReceiverId = -1;
   std::vector<int>* Scratch = nullptr; ///< blocker candidates of the current wedge
+  const std::vector<int>* Candidates = nullptr; ///< the pair's shaft candidates
+  bool Cull = true;      ///< DiscontinuityMeshSettings::CullWedges
   double Tol = 0.0;      ///< linear tolerance
   Vec3 ReceiverCentre;   ///< for bounding the wedge's reach
   double ReceiverRadius = 0.0;
+  double Margin = 0.0;   ///< lengthening of the receiver's chords (far above Tol)
 };
 
 enum class WedgeKind
@@ -1409,7 +1448,7 @@ bool ClipChord(Vec3& a, Vec3& b, const HalfSpace* h, int count)
  * conditions on t except blocking are linear in t; blocking chords map to
  * t-intervals by central projection from the apex.
  */
-void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Vec3, Vec3>>& out)
+bool TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Vec3, Vec3>>& out)
 {
   out.clear();
   const double tol = ctx.Tol;
@@ -1417,7 +1456,7 @@ void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
   const double len = Length(gd);
   if (!(len > tol))
   {
-    return;
+    return false;
   }
   const Vec3 u = gd / len;
   const Vec3 w0 = w.G0 - w.P;
@@ -1426,7 +1465,7 @@ void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
   const double h = Length(wv);
   if (!(h > tol))
   {
-    return; // apex on the generator's line
+    return false; // apex on the generator's line
   }
   const Vec3 wn = wv / h; // in-plane, from the apex towards the generator line
   const PolygonData& rec = *ctx.Receiver;
@@ -1513,7 +1552,70 @@ void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
   Normalize(valid);
   if (valid.empty())
   {
-    return;
+    return false;
+  }
+  // Only the lines that meet the receiver polygon can leave a boundary on it
+  // (the pieces are clipped to it afterwards), so before looking for
+  // blockers: a receiver entirely on one side of the wedge plane (farther
+  // than the snapping distance, so not even an outline piece could remain)
+  // gets nothing, and otherwise t is restricted to the central projection of
+  // the receiver's chords in the wedge plane. Most wedges miss a small
+  // receiver entirely and stop here. Each chord is lengthened by ctx.Margin
+  // so that the pieces still end where the 2D clip against R's outline puts
+  // them, not at a rounded projection.
+  {
+    bool above = !ctx.Cull, below = !ctx.Cull;
+    for (const Vec3& v : rec.V)
+    {
+      const double d = Dot(w.M, v - w.P);
+      above = above || d >= -tol;
+      below = below || d <= tol;
+    }
+    if (!above || !below)
+    {
+      return false;
+    }
+    thread_local std::vector<std::pair<Vec3, Vec3>> receiverChords;
+    thread_local std::vector<Interval> reach, restricted;
+    PlaneChords(rec, w.M, w.P, tol, receiverChords);
+    reach.clear();
+    for (const auto& chord : receiverChords)
+    {
+      const Vec3 along = chord.second - chord.first;
+      const double chordLength = Length(along);
+      const Vec3 pad = chordLength > 0.0 ? (ctx.Margin / chordLength) * along : Vec3();
+      for (int side = 0; side < 2; ++side)
+      {
+        // EV lines reach R beyond the generator, VE lines behind the apex;
+        // occluder EV lines may do either.
+        if ((w.Kind == WedgeKind::EV && side == 1) || (w.Kind == WedgeKind::VE && side == 0))
+        {
+          continue;
+        }
+        const HalfSpace hs = side == 0 ? HalfSpace{ wn, Dot(wn, w.P) + tol }
+                                       : HalfSpace{ -wn, -Dot(wn, w.P) + tol };
+        Vec3 c0 = chord.first - pad, c1 = chord.second + pad;
+        if (!ClipChord(c0, c1, &hs, 1))
+        {
+          continue;
+        }
+        const double t0 = (Dot(c0 - w.P, u) * h / Dot(c0 - w.P, wn) - g0) / len;
+        const double t1 = (Dot(c1 - w.P, u) * h / Dot(c1 - w.P, wn) - g0) / len;
+        reach.push_back({ std::min(t0, t1), std::max(t0, t1) });
+      }
+    }
+    // No chord although R meets the plane within tolerance (R nearly in the
+    // wedge plane, or touching it): no restriction.
+    if (ctx.Cull && !receiverChords.empty())
+    {
+      Normalize(reach);
+      Intersect(valid, reach, restricted);
+      valid.swap(restricted);
+      if (valid.empty())
+      {
+        return false;
+      }
+    }
   }
 
   // Blocker candidates: the polygons crossing the wedge plane inside the box
@@ -1595,8 +1697,18 @@ void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
       const Vec3 at = w.P + hull[i][0] * u + hull[i][1] * wn;
       volume.Planes.push_back({ inward, Dot(inward, at) - tol });
     }
+    // Blockers lie on event lines, inside the shaft: among few shaft
+    // candidates a scan is cheaper than a BVH traversal.
     ctx.Scratch->clear();
-    ctx.Occluders->VolumeCandidates(volume, ctx.ShooterId, ctx.ReceiverId, *ctx.Scratch);
+    if (ctx.Cull && ctx.Candidates->size() <= kScanLimit)
+    {
+      ctx.Occluders->FilterCandidates(volume, ctx.Candidates->data(),
+        static_cast<int>(ctx.Candidates->size()), ctx.ShooterId, ctx.ReceiverId, *ctx.Scratch);
+    }
+    else
+    {
+      ctx.Occluders->VolumeCandidates(volume, ctx.ShooterId, ctx.ReceiverId, *ctx.Scratch);
+    }
   }
 
   // Blockers: each candidate's chords in the wedge plane, clipped to the part
@@ -1663,16 +1775,34 @@ void TraceWedge(const PairContext& ctx, const Wedge& w, std::vector<std::pair<Ve
     };
     out.push_back({ receiverPoint(iv.Lo), receiverPoint(iv.Hi) });
   }
+  return true;
 }
 
 } // namespace
 
+double DiscontinuityMesher::Internal::JumpRadiance(
+  const DiscontinuityMeshSettings& settings, int shooter) const
+{
+  if (!settings.ShooterRadiance.empty())
+  {
+    for (std::size_t k = 0; k < settings.Shooters.size(); ++k)
+    {
+      if (settings.Shooters[k] == shooter)
+      {
+        return settings.ShooterRadiance[k].Mean();
+      }
+    }
+  }
+  return this->SceneCopy.Surfaces[shooter].Emission.Mean();
+}
+
 void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
-  const DiscontinuityMeshSettings& settings, const Frame& frame, std::vector<Segment2>& out,
-  DiscontinuityMeshStatistics& stats) const
+  const DiscontinuityMeshSettings& settings, double minimumJump, const Frame& frame,
+  std::vector<Segment2>& out, DiscontinuityMeshStatistics& stats) const
 {
   std::vector<int> candidates;
-  if (!this->Occluders.ShaftCandidates(shooterId, receiverId, candidates))
+  CullingVolume shaft;
+  if (!this->Occluders.ShaftCandidates(shooterId, receiverId, candidates, &shaft))
   {
     return;
   }
@@ -1694,7 +1824,10 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
   ctx.ReceiverId = receiverId;
   std::vector<int> scratch;
   ctx.Scratch = &scratch;
+  ctx.Candidates = &candidates;
+  ctx.Cull = settings.CullWedges;
   ctx.Tol = tol;
+  ctx.Margin = kChordMargin * this->Size;
   ctx.ReceiverCentre = rec.Centroid;
   for (const Vec3& v : rec.V)
   {
@@ -1720,7 +1853,30 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
   std::sort(vertices.begin(), vertices.end());
   vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
   // Keep only features usable as occluders of this pair: not lying in the
-  // receiver's plane (contacts), partly in front of the shooter and receiver.
+  // receiver's plane (contacts), partly in front of the shooter and receiver,
+  // and meeting the shaft. Every event line runs from a receiving point to a
+  // shooter point through its features, so a feature entirely outside the
+  // convex hull of shooter and receiver (the shaft) is on no event line,
+  // although its polygon may cross the shaft.
+  auto outsideShaft = [&](const Vec3* points, int count) {
+    if (!settings.CullWedges)
+    {
+      return false;
+    }
+    for (const Plane& plane : shaft.Planes)
+    {
+      bool outside = true;
+      for (int k = 0; k < count && outside; ++k)
+      {
+        outside = Dot(plane.Normal, points[k]) < plane.Offset - tol;
+      }
+      if (outside)
+      {
+        return true;
+      }
+    }
+    return false;
+  };
   auto edgeEnds = [&](int e, Vec3& a, Vec3& b) {
     a = this->ClusterPoint[this->EdgeClusters[e][0]];
     b = this->ClusterPoint[this->EdgeClusters[e][1]];
@@ -1738,13 +1894,18 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
     {
       continue;
     }
+    const Vec3 ends[2] = { a, b };
+    if (outsideShaft(ends, 2))
+    {
+      continue;
+    }
     usableEdges.push_back(e);
   }
   std::vector<int> usableVertices;
   for (int c : vertices)
   {
     const Vec3& p = this->ClusterPoint[c];
-    if (distR(p) > contactTol && distS(p) > tol)
+    if (distR(p) > contactTol && distS(p) > tol && !outsideShaft(&p, 1))
     {
       usableVertices.push_back(c);
     }
@@ -1807,9 +1968,48 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
 
   std::vector<std::pair<Vec3, Vec3>> traced;
   std::vector<Interval> pieces;
+  // With a jump threshold, a wedge is not traced when even an upper bound of
+  // the jump its pieces would get is below the minimum: the jump at a point
+  // x of R is Ls min(F_occluders(x), F_S(x)) (see Boundaries), and a form
+  // factor F(x) of a polygon of area A is at most A / (pi d^2), d the
+  // distance between R and the polygon (bounded below by their centres'
+  // distance minus their radii), and at most 1.
+  const double shooterRadiance = this->JumpRadiance(settings, shooterId);
+  auto formFactorBound = [&](int polygon) {
+    const PolygonData& p = this->Polygons[polygon];
+    double radius = 0.0;
+    for (const Vec3& v : p.V)
+    {
+      radius = std::max(radius, Length(v - p.Centroid));
+    }
+    const double d = Length(p.Centroid - rec.Centroid) - radius - ctx.ReceiverRadius;
+    return d > 0.0 ? std::min(1.0, p.Area / (M_PI * d * d)) : 1.0;
+  };
+  auto faint = [&](int occluderA, int occluderB) {
+    if (!(minimumJump >= 0.0 && settings.CullWedges))
+    {
+      return false;
+    }
+    double bound = formFactorBound(shooterId);
+    for (int k : { occluderA, occluderB })
+    {
+      if (k >= 0)
+      {
+        bound = std::min(bound, formFactorBound(k));
+      }
+    }
+    // The margin keeps rounding from dropping a wedge at the threshold.
+    return shooterRadiance * bound * (1.0 + 1e-9) < minimumJump;
+  };
   auto emit = [&](const Wedge& w, int order, int occluderA, int occluderB) {
-    ++stats.Wedges;
-    TraceWedge(ctx, w, traced);
+    if (faint(occluderA, occluderB))
+    {
+      return;
+    }
+    if (TraceWedge(ctx, w, traced))
+    {
+      ++stats.Wedges;
+    }
     for (const auto& seg : traced)
     {
       const P2 a = frame.To2D(seg.first), b = frame.To2D(seg.second);
@@ -1911,23 +2111,32 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
   // Occluder EV: vertex of one occluder x edge of another, wedge cutting the shooter.
   if (settings.OccluderOccluderEvents)
   {
-    // Generators for an apex w: edges meeting the double cone of lines through
-    // w and the shooter (its convex hull), on the shooter's side of w or on
-    // the receiver's side; found in the BVH, one query per nappe.
+    // Generators for an apex w lie on lines through w that hit both the
+    // shooter and the receiver (their convex hulls): between w and the
+    // shooter on lines continuing from w to the receiver (case A of
+    // TraceWedge), or between w and the receiver on lines continuing from w
+    // to the shooter (case B). Each case is the intersection of the cone from
+    // w to one polygon with the reflected cone of the other, found in the BVH
+    // with one query per case. Bounding by the receiver's cone too keeps the
+    // cost per small receiver independent of how many polygons the shooter's
+    // cone crosses.
     const PreparedPolygon& shp = this->Occluders.GetPolygon(shooterId);
-    const Vec3* hull = this->Occluders.GetHullVertices().data() + shp.FirstHullPoint;
-    const int nh = shp.NumberOfHullPoints;
-    Vec3 shLo = hull[0], shHi = hull[0], recLo = rec.V[0], recHi = rec.V[0];
-    for (int i = 0; i < nh; ++i)
-    {
-      shLo = Vec3(std::min(shLo.X, hull[i].X), std::min(shLo.Y, hull[i].Y), std::min(shLo.Z, hull[i].Z));
-      shHi = Vec3(std::max(shHi.X, hull[i].X), std::max(shHi.Y, hull[i].Y), std::max(shHi.Z, hull[i].Z));
-    }
-    for (const Vec3& v : rec.V)
-    {
-      recLo = Vec3(std::min(recLo.X, v.X), std::min(recLo.Y, v.Y), std::min(recLo.Z, v.Z));
-      recHi = Vec3(std::max(recHi.X, v.X), std::max(recHi.Y, v.Y), std::max(recHi.Z, v.Z));
-    }
+    const PreparedPolygon& recp = this->Occluders.GetPolygon(receiverId);
+    const Vec3* shHull = this->Occluders.GetHullVertices().data() + shp.FirstHullPoint;
+    const Vec3* recHull = this->Occluders.GetHullVertices().data() + recp.FirstHullPoint;
+    auto addCone = [&](const Vec3* hull, int count, const Vec3& centre, const Vec3& apex,
+                     bool reflected, CullingVolume& cone) {
+      for (int i = 0; i < count; ++i)
+      {
+        const Vec3 a = hull[i], b = hull[(i + 1) % count];
+        Vec3 n = Normalized(Cross(b - a, apex - a));
+        if ((Dot(n, centre - apex) < 0.0) != reflected)
+        {
+          n = -n;
+        }
+        cone.Planes.push_back({ n, Dot(n, apex) - tol });
+      }
+    };
     std::vector<int> found, generators;
     for (int c : usableVertices)
     {
@@ -1935,29 +2144,31 @@ void DiscontinuityMesher::Internal::AddShadows(int receiverId, int shooterId,
       generators.clear();
       for (int nappe = 0; nappe < 2; ++nappe)
       {
+        // nappe 0: between the apex and the shooter; 1: between the apex and the receiver.
         CullingVolume cone;
-        const Vec3 lo = nappe == 0 ? shLo : recLo, hi = nappe == 0 ? shHi : recHi;
-        cone.BoxMin = Vec3(std::min(lo.X, apex.X), std::min(lo.Y, apex.Y), std::min(lo.Z, apex.Z)) -
-          Vec3(tol, tol, tol);
-        cone.BoxMax = Vec3(std::max(hi.X, apex.X), std::max(hi.Y, apex.Y), std::max(hi.Z, apex.Z)) +
-          Vec3(tol, tol, tol);
-        for (int i = 0; i < nh; ++i)
+        const PreparedPolygon& towards = nappe == 0 ? shp : recp;
+        cone.BoxMin = Vec3(std::min(towards.BoundsMin.X, apex.X), std::min(towards.BoundsMin.Y, apex.Y),
+                        std::min(towards.BoundsMin.Z, apex.Z)) - Vec3(tol, tol, tol);
+        cone.BoxMax = Vec3(std::max(towards.BoundsMax.X, apex.X), std::max(towards.BoundsMax.Y, apex.Y),
+                        std::max(towards.BoundsMax.Z, apex.Z)) + Vec3(tol, tol, tol);
+        addCone(shHull, shp.NumberOfHullPoints, shp.Centroid, apex, nappe == 1, cone);
+        if (settings.CullWedges)
         {
-          const Vec3 a = hull[i], b = hull[(i + 1) % nh];
-          Vec3 n = Normalized(Cross(b - a, apex - a));
-          if (Dot(n, shp.Centroid - apex) < 0.0)
-          {
-            n = -n;
-          }
-          if (nappe == 1)
-          {
-            n = -n;
-          }
-          cone.Planes.push_back({ n, Dot(n, apex) - tol });
+          addCone(recHull, recp.NumberOfHullPoints, recp.Centroid, apex, nappe == 0, cone);
         }
         cone.Planes.push_back(nappe == 0 ? Plane{ sh.N, sh.D - tol } : Plane{ rec.N, rec.D - tol });
+        // Generators lie on event lines, inside the shaft: among few shaft
+        // candidates a scan is cheaper than a BVH traversal.
         found.clear();
-        this->Occluders.VolumeCandidates(cone, shooterId, receiverId, found);
+        if (settings.CullWedges && candidates.size() <= kScanLimit)
+        {
+          this->Occluders.FilterCandidates(cone, candidates.data(),
+            static_cast<int>(candidates.size()), shooterId, receiverId, found);
+        }
+        else
+        {
+          this->Occluders.VolumeCandidates(cone, shooterId, receiverId, found);
+        }
         for (int k : found)
         {
           for (int e : this->Polygons[k].Edge)
@@ -2159,41 +2370,23 @@ std::vector<Segment2> DiscontinuityMesher::Internal::Boundaries(int receiverId,
   }
   const std::vector<int> shooters = this->Select(settings);
   const std::size_t firstShadow = segments.size();
-  for (int s : shooters)
-  {
-    if (s != receiverId)
+  const PolygonData& rec = this->Polygons[receiverId];
+  auto formFactor = [&](const Vec3& x, int polygon, bool twoSided) {
+    const std::vector<Vec3>& v = this->Polygons[polygon].V;
+    double f = PointPolygonFormFactorClipped(x, rec.N, v);
+    if (twoSided)
     {
-      this->AddShadows(receiverId, s, settings, frame, segments, stats);
+      std::vector<Vec3> reversed(v.rbegin(), v.rend());
+      f = std::max(f, PointPolygonFormFactorClipped(x, rec.N, reversed));
     }
-  }
-  if (settings.JumpThreshold > 0.0 && segments.size() > firstShadow)
+    return f;
+  };
+  // The jump threshold's reference: the largest unoccluded direct radiance
+  // over the receiver (sum over shooters). Shadows whose jump cannot reach
+  // JumpThreshold times it are not even traced (see AddShadows).
+  double minimumJump = -1.0;
+  if (settings.JumpThreshold > 0.0)
   {
-    // Radiance used for each shooter (mean of RGB).
-    const PolygonData& rec = this->Polygons[receiverId];
-    auto radianceOf = [&](int shooter) {
-      if (!settings.ShooterRadiance.empty())
-      {
-        for (std::size_t k = 0; k < settings.Shooters.size(); ++k)
-        {
-          if (settings.Shooters[k] == shooter)
-          {
-            return settings.ShooterRadiance[k].Mean();
-          }
-        }
-      }
-      return this->SceneCopy.Surfaces[shooter].Emission.Mean();
-    };
-    auto formFactor = [&](const Vec3& x, int polygon, bool twoSided) {
-      const std::vector<Vec3>& v = this->Polygons[polygon].V;
-      double f = PointPolygonFormFactorClipped(x, rec.N, v);
-      if (twoSided)
-      {
-        std::vector<Vec3> reversed(v.rbegin(), v.rend());
-        f = std::max(f, PointPolygonFormFactorClipped(x, rec.N, reversed));
-      }
-      return f;
-    };
-    // Largest unoccluded direct radiance over the receiver (sum over shooters).
     std::vector<Vec3> samples = { rec.Centroid };
     for (const Vec3& v : rec.V)
     {
@@ -2207,11 +2400,23 @@ std::vector<Segment2> DiscontinuityMesher::Internal::Boundaries(int receiverId,
       {
         if (s != receiverId)
         {
-          sum += radianceOf(s) * formFactor(x, s, false);
+          sum += this->JumpRadiance(settings, s) * formFactor(x, s, false);
         }
       }
       reference = std::max(reference, sum);
     }
+    minimumJump = reference > 0.0 ? settings.JumpThreshold * reference
+                                  : std::numeric_limits<double>::infinity();
+  }
+  for (int s : shooters)
+  {
+    if (s != receiverId)
+    {
+      this->AddShadows(receiverId, s, settings, minimumJump, frame, segments, stats);
+    }
+  }
+  if (minimumJump >= 0.0 && segments.size() > firstShadow)
+  {
     std::size_t write = firstShadow;
     for (std::size_t k = firstShadow; k < segments.size(); ++k)
     {
@@ -2226,8 +2431,8 @@ std::vector<Segment2> DiscontinuityMesher::Internal::Boundaries(int receiverId,
         {
           fo = std::min(fo, formFactor(mid, s.OccluderB, true));
         }
-        const double jump = radianceOf(s.SourceId) * std::min(fo, fs);
-        keep = reference > 0.0 && jump >= settings.JumpThreshold * reference;
+        const double jump = this->JumpRadiance(settings, s.SourceId) * std::min(fo, fs);
+        keep = jump >= minimumJump;
       }
       if (keep)
       {

@@ -706,15 +706,17 @@ bool OccluderSet::BuildShaft(int shooterId, int receiverId, CullingVolume& shaft
   return true;
 }
 
-bool OccluderSet::ShaftCandidates(int shooterId, int receiverId, std::vector<int>& candidates) const
+bool OccluderSet::ShaftCandidates(
+  int shooterId, int receiverId, std::vector<int>& candidates, CullingVolume* shaft) const
 {
   candidates.clear();
-  CullingVolume shaft;
-  if (!this->BuildShaft(shooterId, receiverId, shaft))
+  CullingVolume local;
+  CullingVolume& volume = shaft ? *shaft : local;
+  if (!this->BuildShaft(shooterId, receiverId, volume))
   {
     return false;
   }
-  this->VolumeCandidates(shaft, shooterId, receiverId, candidates);
+  this->VolumeCandidates(volume, shooterId, receiverId, candidates);
   std::sort(candidates.begin(), candidates.end());
   return true;
 }

@@ -144,9 +144,11 @@ public:
    * Query A. The polygons that may block a ray from a point of the receiver
    * to a point of the shooter, excluding both; sorted by id. Returns false
    * (with no candidates) when the pair exchanges nothing. Allocates only the
-   * output and a small plane list: call it once per pair.
+   * output and a small plane list: call it once per pair. When `shaft` is
+   * given it receives the culling volume used (see BuildShaft).
    */
-  bool ShaftCandidates(int shooterId, int receiverId, std::vector<int>& candidates) const;
+  bool ShaftCandidates(int shooterId, int receiverId, std::vector<int>& candidates,
+    CullingVolume* shaft = nullptr) const;
 
   /**
    * Query B, first step. Build the pyramid from x to the part of the shooter

@@ -87,6 +87,7 @@ int vtkDiscontinuityMesher::RequestData(
   settings.Contacts = this->Contacts;
   settings.JumpThreshold = this->JumpThreshold;
   settings.ContactTolerance = this->ContactTolerance;
+  settings.CullWedges = this->CullWedges;
 
   std::unique_ptr<penumbra::DiscontinuityMesher> mesher;
   int numberOfSurfaces = 0;
@@ -231,4 +232,5 @@ void vtkDiscontinuityMesher::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Contacts: " << (this->Contacts ? "On" : "Off") << "\n";
   os << indent << "JumpThreshold: " << this->JumpThreshold << "\n";
   os << indent << "ContactTolerance: " << this->ContactTolerance << "\n";
+  os << indent << "CullWedges: " << (this->CullWedges ? "On" : "Off") << "\n";
 }

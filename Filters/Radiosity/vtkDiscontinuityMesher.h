@@ -24,7 +24,7 @@
  *   copy per side, so that values may jump there;
  * - field data with the counts of the run: `SegmentsGenerated`,
  *   `SegmentsKept`, `ContactSegments`, `Constraints`, `ConstraintFailures`,
- *   `Triangles`, `Wedges`.
+ *   `Triangles`, `Wedges` (wedges traced, after culling).
  *
  * Receivers are meshed in parallel with vtkSMPTools; the output does not
  * depend on the number of threads.
@@ -123,7 +123,9 @@ public:
   /**
    * Drop shadow boundaries whose estimated radiance jump, relative to the
    * receiver's largest unoccluded direct radiance, is below this. Default 0
-   * (keep all), range [0, 1]. Contact lines are always kept.
+   * (keep all), range [0, 1]. Contact lines are always kept. With CullWedges,
+   * wedges whose jump is certainly below it are not traced (nor counted in
+   * `SegmentsGenerated`).
    */
   vtkSetClampMacro(JumpThreshold, double, 0.0, 1.0);
   vtkGetMacro(JumpThreshold, double);
@@ -137,6 +139,18 @@ public:
    */
   vtkSetClampMacro(ContactTolerance, double, 0.0, 1e-2);
   vtkGetMacro(ContactTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Cull, before tracing them, the wedges that cannot leave a boundary on the
+   * receiver (their plane misses it, or their feature lies outside the shaft
+   * between shooter and receiver). The output is the same either way up to
+   * rounding; turn off only to check that or to measure the gain. Default on.
+   */
+  vtkSetMacro(CullWedges, bool);
+  vtkGetMacro(CullWedges, bool);
+  vtkBooleanMacro(CullWedges, bool);
   ///@}
 
 protected:
@@ -154,6 +168,7 @@ protected:
   bool Contacts = true;
   double JumpThreshold = 0.0;
   double ContactTolerance = 1e-6;
+  bool CullWedges = true;
 
 private:
   vtkDiscontinuityMesher(const vtkDiscontinuityMesher&) = delete;

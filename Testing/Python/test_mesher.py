@@ -93,7 +93,8 @@ def test_settings_clamp_and_print():
     assert mesher.GetJumpThreshold() == 0
     text = str(mesher)
     for setting in ("ShooterIds", "ShooterPowerFraction", "MinimumAngle", "OccluderOccluderEvents",
-                    "InteriorEvents", "PlaneEvents", "Contacts", "JumpThreshold", "ContactTolerance"):
+                    "InteriorEvents", "PlaneEvents", "Contacts", "JumpThreshold", "ContactTolerance",
+                    "CullWedges"):
         assert setting + ":" in text
 
 
@@ -104,3 +105,64 @@ def test_bad_shooter_id_is_an_error():
     mesher.AddShooterId(99)
     with pytest.raises(penumbra.PenumbraError, match="ShooterIds: 99"):
         penumbra.run_filter(mesher)
+
+
+def boundary_lines(scene, **settings):
+    """The mesher's output lines grouped by (SurfaceId, DiscontinuityOrder, SourceId)."""
+    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher.SetInputData(scene)
+    for name, value in settings.items():
+        getattr(mesher, "Set" + name)(value)
+    out = penumbra.run_filter(mesher)
+    lines = out.GetNumberOfLines()
+    ends = vtk_to_numpy(out.GetLines().GetConnectivityArray()).reshape(-1, 2)
+    points = vtk_to_numpy(out.GetPoints().GetData())
+    arrays = {name: values[:lines] for name, values in cell_arrays(out).items()}
+    groups = {}
+    for k, key in enumerate(zip(arrays["SurfaceId"], arrays["DiscontinuityOrder"],
+                                arrays["SourceId"])):
+        groups.setdefault(tuple(int(v) for v in key), []).append(points[ends[k]])
+    field = out.GetFieldData()
+    counts = {name: int(field.GetArray(name).GetValue(0))
+              for name in ("SegmentsGenerated", "Wedges", "Triangles")}
+    return {key: np.array(value) for key, value in groups.items()}, counts
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_wedge_culling_keeps_every_boundary(seed):
+    # A random room of ~300 polygons: the same lines (each surface, order and
+    # source; end points within 1e-9 of the room size, either direction) with
+    # and without culling, and far fewer wedges traced with it.
+    from penumbra.generators import box_room
+
+    scene = box_room(300, seed=seed)
+    tol = 1e-9 * max(np.ptp(vtk_to_numpy(scene.GetPoints().GetData()), axis=0))
+    culled, culled_counts = boundary_lines(scene)
+    traced, traced_counts = boundary_lines(scene, CullWedges=False)
+    assert culled.keys() == traced.keys()
+    def distance(lines, other):
+        """Largest end point distance of each line to its nearest line of `other`."""
+        a, b = lines[:, None, 0], lines[:, None, 1]
+        forward = np.maximum(np.linalg.norm(other[None, :, 0] - a, axis=2),
+                             np.linalg.norm(other[None, :, 1] - b, axis=2))
+        backward = np.maximum(np.linalg.norm(other[None, :, 0] - b, axis=2),
+                              np.linalg.norm(other[None, :, 1] - a, axis=2))
+        return np.minimum(forward, backward).min(axis=1)
+
+    for key, lines in traced.items():
+        other = culled[key]
+        assert len(other) == len(lines), key
+        # Sorted by midpoint the lists pair up; the few that do not (equal
+        # midpoints) are searched among all lines of the group.
+        lines = lines[np.argsort(lines.sum(axis=1)[:, 0], kind="stable")]
+        other = other[np.argsort(other.sum(axis=1)[:, 0], kind="stable")]
+        paired = np.maximum(np.linalg.norm(lines[:, 0] - other[:, 0], axis=1),
+                            np.linalg.norm(lines[:, 1] - other[:, 1], axis=1))
+        swapped = np.maximum(np.linalg.norm(lines[:, 0] - other[:, 1], axis=1),
+                             np.linalg.norm(lines[:, 1] - other[:, 0], axis=1))
+        rest = lines[np.minimum(paired, swapped) > tol]
+        if len(rest):
+            assert distance(rest, other).max() <= tol, key
+    assert culled_counts["SegmentsGenerated"] <= traced_counts["SegmentsGenerated"]
+    assert culled_counts["Triangles"] == traced_counts["Triangles"]
+    assert 2 * culled_counts["Wedges"] < traced_counts["Wedges"]
