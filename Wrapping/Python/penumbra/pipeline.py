@@ -12,6 +12,29 @@ STANDARD_SETTINGS = ("element_size", "patch_size", "subdivision_threshold",
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 
+def point_samples(points, surface_id):
+    """Sample points for vtkRadianceEvaluator's input port 0: one vertex cell
+    per point (double precision), all on surface `surface_id` (cell data
+    `SurfaceId`). The evaluator then gives the radiance at exactly these points."""
+    from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray
+
+    data = vtkPolyData()
+    pts = vtkPoints()
+    pts.SetDataTypeToDouble()
+    verts = vtkCellArray()
+    ids = vtkIntArray()
+    ids.SetName("SurfaceId")
+    for p in points:
+        verts.InsertNextCell(1)
+        verts.InsertCellPoint(pts.InsertNextPoint(p))
+        ids.InsertNextValue(surface_id)
+    data.SetPoints(pts)
+    data.SetVerts(verts)
+    data.GetCellData().AddArray(ids)
+    return data
+
+
 def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2, indirect=True,
                    unshot_fraction=1e-3, exact_power_fraction=1.0):
     """The filters of the pipeline, connected after `scene_port` (an algorithm
