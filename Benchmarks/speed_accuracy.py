@@ -34,7 +34,6 @@ import argparse
 import csv
 import json
 import os
-import resource
 import subprocess
 import sys
 import tempfile
@@ -140,6 +139,17 @@ def solve(scene_data, family, settings, threads):
     return result, int(evaluations.GetValue(0)) if evaluations is not None else -1
 
 
+def peak_memory_mb():
+    """This process's peak resident memory. Not getrusage's ru_maxrss: Linux
+    carries it over from the parent through fork and exec, so every child
+    would report at least the parent's size."""
+    with open("/proc/self/status") as status:
+        for line in status:
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024.0  # kB -> MB
+    return float("nan")
+
+
 def run_one(args):
     """Child process: one (scene, method) run; prints one JSON line."""
     import penumbra
@@ -150,7 +160,7 @@ def run_one(args):
     start = time.perf_counter()
     result, samples = solve(scene_data, family, settings, args.threads)
     seconds = time.perf_counter() - start
-    memory = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # kB -> MB
+    memory = peak_memory_mb()
     shown = displayed_radiance(result, reference["points"])
     exact = reference["exact"]
     valid = np.isfinite(shown)

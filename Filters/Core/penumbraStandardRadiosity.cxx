@@ -163,7 +163,7 @@ struct StandardRadiosity::Internal
   void CollectHanging(int a, int b, std::vector<int>& out) const;
   bool NeedsSplit(const Element& e, std::vector<int>& ring) const;
   int Midpoint(int a, int b, std::vector<int>& created);
-  void Subdivide();
+  void Subdivide(const std::vector<char>& changed);
   Vec3 InwardPoint(const Vec3& p, int surface) const;
 };
 
@@ -588,7 +588,7 @@ ShotRecord StandardRadiosity::Internal::Shoot(int patchId)
   record.Escaped = Difference(record.Power, record.Incident);
   this->Energy.ShotAbsorbed += record.Absorbed;
   this->Energy.ShotEscaped += record.Escaped;
-  this->Subdivide();
+  this->Subdivide(receives);
   this->Energy.Unshot = this->TotalUnshotPower();
   record.UnshotAfter = this->Energy.Unshot.Mean();
   record.Seconds = Seconds(start);
@@ -643,7 +643,7 @@ int StandardRadiosity::Internal::Midpoint(int a, int b, std::vector<int>& create
   return inserted.first->second;
 }
 
-void StandardRadiosity::Internal::Subdivide()
+void StandardRadiosity::Internal::Subdivide(const std::vector<char>& changed)
 {
   if (this->Settings.MaximumSubdivisionDepth == 0 ||
     !std::isfinite(this->Settings.SubdivisionThreshold))
@@ -658,8 +658,10 @@ void StandardRadiosity::Internal::Subdivide()
     split.clear();
     for (int e = 0; e < static_cast<int>(this->Elements.size()); ++e)
     {
+      // Only the surfaces the shot changed can have new differences.
       const Element& element = this->Elements[e];
       if (element.Leaf && element.Depth < this->Settings.MaximumSubdivisionDepth &&
+        changed[this->Vertices[element.Corners[0]].Surface] &&
         this->NeedsSplit(element, ring))
       {
         split.push_back(e);
