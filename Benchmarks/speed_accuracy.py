@@ -23,7 +23,8 @@ lights do not reflect, and the occluders face up, away from the floor.
 Methods: discontinuity meshing with exact evaluation and cubic
 reconstruction, with linear reconstruction (and with ray-cast evaluation
 on request, see DEFAULT_METHODS); standard radiosity at five mesh
-densities. Not yet here (issue 7): the
+densities, with a finer subdivision threshold, without subdivision, and
+with Wallace et al.'s disc form factors as published. Not yet here (issue 7): the
 Mitsuba path tracer, the Cornell box, the paper's Fig. 5/6 pictures.
 
 Writes DIR/speed_accuracy.md, DIR/speed_accuracy.csv and one log-log chart
@@ -56,6 +57,12 @@ METHODS = (
     ("standard", "standard h=0.025 s=8", {"element_size": 0.025, "shooter_samples": 8}),
     ("standard", "standard h=0.0125 s=16", {"element_size": 0.0125, "shooter_samples": 16}),
     ("standard", "standard h=0.00625 s=16", {"element_size": 0.00625, "shooter_samples": 16}),
+    ("standard", "standard h=0.025 s=8 t=0.05",
+     {"element_size": 0.025, "shooter_samples": 8, "subdivision_threshold": 0.05}),
+    ("standard", "standard h=0.025 s=8 no subdivision",
+     {"element_size": 0.025, "shooter_samples": 8, "maximum_subdivision_depth": 0}),
+    ("standard", "standard disc h=0.025 s=8",
+     {"element_size": 0.025, "shooter_samples": 8, "form_factor": "disc"}),
 )
 # Ray-cast evaluation is left out unless asked for (--methods all): with the
 # adaptive sampling it took 318 s and 868,000 samples on "occluder" (exact:

@@ -108,6 +108,8 @@ def test_bad_input_and_settings():
         penumbra.solve("strip", method="hierarchical")
     with pytest.raises(penumbra.PenumbraError, match="element_size"):
         penumbra.solve("strip", element_size=0.1)
+    with pytest.raises(penumbra.PenumbraError, match="form_factor"):
+        penumbra.solve("strip", method="standard", form_factor="exact")
 
 
 def test_cli_method_standard(tmp_path):

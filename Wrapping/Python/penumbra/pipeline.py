@@ -8,7 +8,7 @@ contract, no `RadianceErrorEstimate`)."""
 
 METHODS = ("discontinuity", "standard")
 STANDARD_SETTINGS = ("element_size", "patch_size", "subdivision_threshold",
-                     "maximum_subdivision_depth", "shooter_samples")
+                     "maximum_subdivision_depth", "shooter_samples", "form_factor")
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 
@@ -69,12 +69,19 @@ def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2, indirect=
 
 def build_standard(scene_port, unshot_fraction=1e-3, element_size=None, patch_size=None,
                    subdivision_threshold=None, maximum_subdivision_depth=None,
-                   shooter_samples=None):
+                   shooter_samples=None, form_factor="analytic"):
     """The standard radiosity baseline after `scene_port`, as a one-stage dict
-    {"standard": vtkStandardRadiositySolver}; None keeps the filter's default."""
+    {"standard": vtkStandardRadiositySolver}; None keeps the filter's default.
+    form_factor: "analytic" (closed form times the ray-cast visible fraction,
+    the default) or "disc" (Wallace et al.'s disc sum, as published)."""
     import penumbra
 
     solver = penumbra.vtkStandardRadiositySolver()
+    modes = {"analytic": solver.ANALYTIC_VISIBILITY, "disc": solver.DISC}
+    if form_factor not in modes:
+        raise penumbra.PenumbraError("form_factor must be 'analytic' or 'disc', got '%s'"
+                                     % form_factor)
+    solver.SetFormFactorMode(modes[form_factor])
     solver.SetInputConnection(scene_port)
     solver.SetUnshotFraction(unshot_fraction)
     for setter, value in ((solver.SetElementSize, element_size),
@@ -101,7 +108,8 @@ def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, indirect=
     baseline: uniform mesh, progressive refinement, adaptive subdivision;
     `indirect` must then be True, and standard_settings may set
     element_size, patch_size, subdivision_threshold,
-    maximum_subdivision_depth and shooter_samples, see build_standard).
+    maximum_subdivision_depth, shooter_samples and form_factor, see
+    build_standard).
     Returns the result vtkPolyData; raises penumbra.PenumbraError for bad
     input or settings.
     """
