@@ -224,7 +224,11 @@ def chart(rows, scene, path):
                         if r["scene"] == scene and r["family"] == family)
         if not points:
             continue
-        axes.plot([p[0] for p in points], [p[1] for p in points], marker=marker, label=family)
+        # The family's curve is its lower envelope: the runs no faster run beats.
+        front = [p for k, p in enumerate(points) if all(q[1] > p[1] for q in points[:k])]
+        line, = axes.plot([p[0] for p in front], [p[1] for p in front], label=family)
+        axes.scatter([p[0] for p in points], [p[1] for p in points], marker=marker,
+                     color=line.get_color())
         for x, y, label in points:
             axes.annotate(label, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
     axes.set_xscale("log")
