@@ -70,6 +70,17 @@
  * rest of the shot's power escaped (left an open scene, or the form
  * factors' discretisation error: ~0 in a closed box with the analytic mode).
  *
+ * Accuracy and cost (measured; TestStandardRadiosity, speed_accuracy.py).
+ * Unoccluded direct light on a floor, displayed error at independent points
+ * (RMS / mean) for element sizes 0.2, 0.1, 0.05, 0.025: 1.9 %, 0.70 %,
+ * 0.18 %, 0.049 % (second order, as linear interpolation). With occluders
+ * the penumbrae are sampled by the s x s rays and the elements: the
+ * default settings give 2.7 % on the paper's Fig. 3 floor and 43 % on the
+ * venetian blind (a threshold of 0.05 with element size 0.025 and s = 8:
+ * 1.4 % and 2 %, 3 to 4 times slower). Cornell box with the defaults: 619
+ * shots, 11,000 vertices, 12-20 s on 2 cores, 3.3 % RMS against the
+ * Mitsuba reference (floor and back wall).
+ *
  * Threads: each shot's vertices, and each round's new vertices, are a
  * parallel loop through the caller's ParallelFor; each vertex is computed
  * independently and all sums are formed serially in a fixed order, so the

@@ -98,7 +98,9 @@ public:
    * Split an element when its vertices' radiances differ by more than this
    * fraction of its brightest vertex's radiance (or of the emitted power
    * spread over all surfaces, whichever is larger). Default 0.2, range
-   * [1e-6, 1e300] (a huge value never splits).
+   * [1e-6, 1e300] (a huge value never splits). Sharp shadows want less:
+   * 0.05 took the venetian blind's floor from 12 % to 2 % RMS error at
+   * ElementSize 0.025, for 2.6 times the time.
    */
   vtkSetClampMacro(SubdivisionThreshold, double, 1e-6, 1e300);
   vtkGetMacro(SubdivisionThreshold, double);
