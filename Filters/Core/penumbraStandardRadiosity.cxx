@@ -869,13 +869,21 @@ StandardRadiosityMesh StandardRadiosity::GetMesh() const
   return mesh;
 }
 
+namespace
+{
+void CheckPatchId(int patchId, int count)
+{
+  if (patchId < 0 || patchId >= count)
+  {
+    throw InputError(
+      "patch " + std::to_string(patchId) + " out of range (" + std::to_string(count) + " patches)");
+  }
+}
+}
+
 double StandardRadiosity::FormFactor(const Vec3& x, const Vec3& n, int receiverId, int patchId) const
 {
-  if (patchId < 0 || patchId >= this->GetNumberOfPatches())
-  {
-    throw InputError("patch " + std::to_string(patchId) + " out of range (" +
-      std::to_string(this->GetNumberOfPatches()) + " patches)");
-  }
+  CheckPatchId(patchId, this->GetNumberOfPatches());
   long long rays = 0;
   return this->P->FormFactor(x, n, receiverId, patchId, rays);
 }
@@ -887,7 +895,8 @@ int StandardRadiosity::GetNumberOfPatches() const
 
 std::array<Vec3, 3> StandardRadiosity::GetPatch(int patchId) const
 {
-  return this->P->Patches.at(static_cast<std::size_t>(patchId)).Corners;
+  CheckPatchId(patchId, this->GetNumberOfPatches());
+  return this->P->Patches[patchId].Corners;
 }
 
 } // namespace penumbra

@@ -209,8 +209,10 @@ public:
    */
   double FormFactor(const Vec3& x, const Vec3& n, int receiverId, int patchId) const;
 
-  /// Number of patches of the last Run and the corners of one.
+  /// Number of patches of the last Run.
   int GetNumberOfPatches() const;
+  /// The corners of a patch of the last Run (counter-clockwise about the
+  /// front normal). Throws InputError for a patch id out of range.
   std::array<Vec3, 3> GetPatch(int patchId) const;
 
 private:

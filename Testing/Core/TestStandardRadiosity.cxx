@@ -5,7 +5,8 @@
 // square source on an open floor against Lambert's closed form at
 // independent points as the mesh is refined (the convergence is printed and
 // must be monotone), the adaptive subdivision at a shadow, thread
-// independence, and the settings' ranges.
+// independence, vertex-to-patch form factors in umbra and full light, and
+// the settings' ranges.
 #include "penumbraFormFactor.h"
 #include "penumbraSceneLibrary.h"
 #include "penumbraStandardRadiosity.h"
@@ -340,6 +341,42 @@ void TestAdaptiveSubdivision()
   PENUMBRA_EXPECT(inverted == 0);
 }
 
+void TestFormFactors()
+{
+  // The occluder scene (paper Fig. 3): light (surface 1) 0.5 x 0.5 m at
+  // y = 2, occluder 0.6 x 0.6 m at y = 1; umbra |x|, |z| < 0.35 m on the floor.
+  const Scene scene = penumbra::MakeBuiltinScene("occluder");
+  StandardRadiosity solver(scene);
+  StandardRadiositySettings settings;
+  settings.MaximumShots = 0; // mesh only
+  solver.SetSettings(settings);
+  solver.Run();
+  const Vec3 up(0, 1, 0);
+  auto toLight = [&](const Vec3& x) {
+    double sum = 0.0;
+    for (int p = 0; p < solver.GetNumberOfPatches(); ++p)
+    {
+      const std::array<Vec3, 3> corners = solver.GetPatch(p);
+      bool onLight = true;
+      for (const Vec3& c : corners)
+      {
+        onLight = onLight && std::abs(c.Y - 2.0) < 1e-12;
+      }
+      sum += onLight ? solver.FormFactor(x, up, 0, p) : 0.0;
+    }
+    return sum;
+  };
+  // In the umbra every ray is blocked; far outside the penumbra none is, and
+  // the analytic mode then gives Lambert's closed form exactly.
+  PENUMBRA_EXPECT(toLight(Vec3(0.1, 0, -0.2)) == 0.0);
+  const Vec3 lit(1.5, 0, 1.2);
+  PENUMBRA_EXPECT_REL(toLight(lit),
+    penumbra::PointPolygonFormFactorClipped(lit, up, scene.Surfaces[1].Vertices), 1e-12);
+  PENUMBRA_EXPECT_THROW(solver.FormFactor(lit, up, 0, -1), penumbra::InputError, "patch -1");
+  PENUMBRA_EXPECT_THROW(
+    solver.GetPatch(solver.GetNumberOfPatches()), penumbra::InputError, "out of range");
+}
+
 void TestSettings()
 {
   StandardRadiosity solver(SquareLightOverFloor());
@@ -368,6 +405,7 @@ int main()
   TestEnergyBalance();
   TestDirectConvergence();
   TestAdaptiveSubdivision();
+  TestFormFactors();
   TestSettings();
   return penumbra::testing::Result();
 }
