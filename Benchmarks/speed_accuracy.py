@@ -26,8 +26,9 @@ all channels), with fewer methods (CORNELL_METHODS).
 Methods: discontinuity meshing with exact evaluation and cubic
 reconstruction, with linear reconstruction (and with ray-cast evaluation
 on request, see DEFAULT_METHODS); standard radiosity at five mesh
-densities, with a finer subdivision threshold, without subdivision, and
-with Wallace et al.'s disc form factors as published. Not yet here (issue 7): the
+densities, with a finer subdivision threshold, without subdivision, with
+smaller shooting patches, and with Wallace et al.'s disc form factors as
+published. Not yet here (issue 7): the
 Mitsuba path tracer as a method, the paper's Fig. 5/6 pictures.
 
 Writes DIR/speed_accuracy.md, DIR/speed_accuracy.csv and one log-log chart
@@ -67,6 +68,8 @@ METHODS = (
      {"element_size": 0.025, "shooter_samples": 8, "maximum_subdivision_depth": 0}),
     ("standard", "standard h=0.05 s=4 t=0.1",
      {"element_size": 0.05, "shooter_samples": 4, "subdivision_threshold": 0.1}),
+    ("standard", "standard h=0.05 s=4 p=0.2",
+     {"element_size": 0.05, "shooter_samples": 4, "patch_size": 0.2}),
     ("standard", "standard disc h=0.025 s=8",
      {"element_size": 0.025, "shooter_samples": 8, "form_factor": "disc"}),
 )
@@ -77,7 +80,8 @@ DEFAULT_METHODS = [label for _, label, _ in METHODS if label != "ray cast + cubi
 # The Cornell box (with interreflections) costs far more per sample: the
 # finer standard meshes would take minutes each.
 CORNELL_METHODS = ["exact + cubic", "exact + linear", "standard h=0.1 s=2",
-                   "standard h=0.05 s=4", "standard h=0.05 s=4 t=0.1"]
+                   "standard h=0.05 s=4", "standard h=0.05 s=4 t=0.1",
+                   "standard h=0.05 s=4 p=0.2"]
 FLOOR = 0  # the floor is surface 0 of every scene measured here
 
 
