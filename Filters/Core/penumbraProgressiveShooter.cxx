@@ -1300,6 +1300,36 @@ ShotRecord ProgressiveShooter::Shoot(int shooterId, ShotMethod method)
   return record;
 }
 
+bool ShootingDone(double unshot, double target, int shots, int maximumShots, StopReason& reason)
+{
+  if (unshot <= target)
+  {
+    reason = StopReason::Converged;
+    return true;
+  }
+  if (shots >= maximumShots)
+  {
+    reason = StopReason::MaximumShots;
+    return true;
+  }
+  return false;
+}
+
+double ShootingProgress(
+  double unshotAfter, double initial, double target, int shots, int maximumShots)
+{
+  double progress;
+  if (target > 0.0 && initial > target)
+  {
+    progress = std::log(std::max(unshotAfter, target) / initial) / std::log(target / initial);
+  }
+  else
+  {
+    progress = maximumShots > 0 ? static_cast<double>(shots) / maximumShots : 1.0;
+  }
+  return std::min(1.0, std::max(0.0, progress));
+}
+
 ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
 {
   Internal& I = *this->P;
@@ -1309,19 +1339,9 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
   summary.ReferencePower = I.Reference;
   const double initial = this->GetTotalUnshotPower().Mean();
   const double target = I.Settings.UnshotFraction * I.Reference;
-  while (true)
+  while (!ShootingDone(this->GetTotalUnshotPower().Mean(), target, summary.Shots,
+    I.Settings.MaximumShots, summary.Reason))
   {
-    const double unshot = this->GetTotalUnshotPower().Mean();
-    if (unshot <= target)
-    {
-      summary.Reason = StopReason::Converged;
-      break;
-    }
-    if (summary.Shots >= I.Settings.MaximumShots)
-    {
-      summary.Reason = StopReason::MaximumShots;
-      break;
-    }
     const int j = this->SelectShooter();
     if (j < 0)
     {
@@ -1344,20 +1364,9 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     summary.History.push_back(record);
     if (callback)
     {
-      double progress;
-      if (target > 0.0 && initial > target)
-      {
-        progress = std::log(std::max(record.UnshotAfter, target) / initial) /
-          std::log(target / initial);
-      }
-      else
-      {
-        progress = I.Settings.MaximumShots > 0
-          ? static_cast<double>(summary.Shots) / I.Settings.MaximumShots
-          : 1.0;
-      }
-      progress = std::min(1.0, std::max(0.0, progress));
-      if (!callback(record, progress))
+      if (!callback(record,
+            ShootingProgress(record.UnshotAfter, initial, target, summary.Shots,
+              I.Settings.MaximumShots)))
       {
         summary.Reason = StopReason::Aborted;
         break;

@@ -294,6 +294,22 @@ struct ShootingSummary
 using ShotCallback = std::function<bool(const ShotRecord& shot, double progress)>;
 
 /**
+ * The stopping rule of the shooting loops, checked before each shot: true
+ * (and `reason` set) when the unshot power is at most `target`
+ * (StopReason::Converged) or `shots` has reached `maximumShots`
+ * (StopReason::MaximumShots).
+ */
+PENUMBRACORE_EXPORT bool ShootingDone(
+  double unshot, double target, int shots, int maximumShots, StopReason& reason);
+
+/**
+ * The progress passed to a ShotCallback (see there), in [0, 1], after
+ * `shots` shots that left `unshotAfter` of an `initial` unshot power.
+ */
+PENUMBRACORE_EXPORT double ShootingProgress(
+  double unshotAfter, double initial, double target, int shots, int maximumShots);
+
+/**
  * The progressive-refinement loop of paper section 3 over per-surface sample
  * meshes. Construct once per scene, give each taking-part surface its
  * samples, then Run (or Shoot step by step). Not thread-safe itself: the

@@ -6,11 +6,13 @@
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSMPTools.h"
 
 #include <sstream>
 
@@ -124,6 +126,37 @@ void AddMeshCellArrays(vtkPolyData* output, const std::vector<int>& lineSurface,
   add("SurfaceId", lineSurface, &triangleSurface, 0);
   add("DiscontinuityOrder", lineOrder, nullptr, -2);
   add("SourceId", lineSource, nullptr, -1);
+}
+
+void AddField(vtkFieldData* fieldData, const char* name, const double* values, int count)
+{
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name);
+  array->SetNumberOfComponents(count);
+  array->InsertNextTuple(values);
+  fieldData->AddArray(array);
+}
+
+void AddField(vtkFieldData* fieldData, const char* name, double value)
+{
+  AddField(fieldData, name, &value, 1);
+}
+
+void AddField(vtkFieldData* fieldData, const char* name, const RGB& value)
+{
+  const double rgb[3] = { value.R, value.G, value.B };
+  AddField(fieldData, name, rgb, 3);
+}
+
+ParallelFor SMPParallelFor()
+{
+  return [](std::size_t begin, std::size_t end,
+           const std::function<void(std::size_t, std::size_t)>& body) {
+    vtkSMPTools::For(static_cast<vtkIdType>(begin), static_cast<vtkIdType>(end),
+      [&body](vtkIdType first, vtkIdType last) {
+        body(static_cast<std::size_t>(first), static_cast<std::size_t>(last));
+      });
+  };
 }
 
 void SceneToPolyData(const Scene& scene, vtkPolyData* output)

@@ -7,11 +7,13 @@
 #ifndef vtkPenumbraSceneConversion_h
 #define vtkPenumbraSceneConversion_h
 
+#include "penumbraProgressiveShooter.h" // for ParallelFor
 #include "penumbraScene.h"
 
 #include <string>
 #include <vector>
 
+class vtkFieldData;
 class vtkPolyData;
 
 namespace penumbra
@@ -33,6 +35,16 @@ Scene SceneFromPolyData(vtkPolyData* input);
 void AddMeshCellArrays(vtkPolyData* output, const std::vector<int>& lineSurface,
   const std::vector<int>& lineOrder, const std::vector<int>& lineSource,
   const std::vector<int>& triangleSurface);
+
+/// Add a one-tuple double array `name` of `count` components to field data.
+void AddField(vtkFieldData* fieldData, const char* name, const double* values, int count);
+/// Add a one-value double array to field data.
+void AddField(vtkFieldData* fieldData, const char* name, double value);
+/// Add a one-tuple RGB (3-component double) array to field data.
+void AddField(vtkFieldData* fieldData, const char* name, const RGB& value);
+
+/// The core's parallel loop run by vtkSMPTools::For (VTK's threads).
+ParallelFor SMPParallelFor();
 
 /// Write a scene as polydata: one polygon per surface, cell arrays
 /// `Reflectance` and `Emission` (double, 3 components).

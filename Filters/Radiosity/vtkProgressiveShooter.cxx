@@ -16,7 +16,6 @@
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
-#include "vtkSMPTools.h"
 
 #include "penumbraProgressiveShooter.h"
 
@@ -36,29 +35,6 @@ int vtkProgressiveShooter::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
   return 1;
-}
-
-namespace
-{
-void AddField(vtkFieldData* fieldData, const char* name, const double* values, int count)
-{
-  vtkNew<vtkDoubleArray> array;
-  array->SetName(name);
-  array->SetNumberOfComponents(count);
-  array->InsertNextTuple(values);
-  fieldData->AddArray(array);
-}
-
-void AddField(vtkFieldData* fieldData, const char* name, double value)
-{
-  AddField(fieldData, name, &value, 1);
-}
-
-void AddField(vtkFieldData* fieldData, const char* name, const penumbra::RGB& value)
-{
-  const double rgb[3] = { value.R, value.G, value.B };
-  AddField(fieldData, name, rgb, 3);
-}
 }
 
 int vtkProgressiveShooter::RequestData(
@@ -152,13 +128,7 @@ int vtkProgressiveShooter::RequestData(
 
     shooter.reset(new penumbra::ProgressiveShooter(scene));
     shooter->SetSettings(settings);
-    shooter->SetParallelFor(
-      [](std::size_t begin, std::size_t end, const std::function<void(std::size_t, std::size_t)>& body) {
-        vtkSMPTools::For(static_cast<vtkIdType>(begin), static_cast<vtkIdType>(end),
-          [&body](vtkIdType first, vtkIdType last) {
-            body(static_cast<std::size_t>(first), static_cast<std::size_t>(last));
-          });
-      });
+    shooter->SetParallelFor(penumbra::SMPParallelFor());
     for (auto& entry : bySurface)
     {
       shooter->SetSurfaceSamples(entry.first, std::move(entry.second));
@@ -193,15 +163,15 @@ int vtkProgressiveShooter::RequestData(
   output->GetPointData()->SetActiveScalars("Radiance");
 
   vtkFieldData* fieldData = output->GetFieldData();
-  AddField(fieldData, "Shots", summary.Shots);
-  AddField(fieldData, "ExactShots", summary.ExactShots);
-  AddField(fieldData, "FastShots", summary.FastShots);
-  AddField(fieldData, "UnshotFraction", summary.UnshotFraction);
-  AddField(fieldData, "EmittedPower", summary.Energy.Emitted);
-  AddField(fieldData, "AbsorbedPower", summary.Energy.Absorbed());
-  AddField(fieldData, "EscapedPower", summary.Energy.Escaped());
-  AddField(fieldData, "UnshotPower", summary.Energy.Unshot);
-  AddField(fieldData, "ShootingSeconds", summary.Seconds);
+  penumbra::AddField(fieldData, "Shots", summary.Shots);
+  penumbra::AddField(fieldData, "ExactShots", summary.ExactShots);
+  penumbra::AddField(fieldData, "FastShots", summary.FastShots);
+  penumbra::AddField(fieldData, "UnshotFraction", summary.UnshotFraction);
+  penumbra::AddField(fieldData, "EmittedPower", summary.Energy.Emitted);
+  penumbra::AddField(fieldData, "AbsorbedPower", summary.Energy.Absorbed());
+  penumbra::AddField(fieldData, "EscapedPower", summary.Energy.Escaped());
+  penumbra::AddField(fieldData, "UnshotPower", summary.Energy.Unshot);
+  penumbra::AddField(fieldData, "ShootingSeconds", summary.Seconds);
   vtkNew<vtkIntArray> order;
   order->SetName("ShotOrder");
   for (const penumbra::ShotRecord& shot : summary.History)

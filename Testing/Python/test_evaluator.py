@@ -12,6 +12,7 @@ from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 
 import penumbra
+from penumbra.pipeline import point_samples as samples
 
 
 def corner_form_factor(a, b, c):
@@ -30,23 +31,6 @@ def parallel_rectangle_form_factor(px, pz, x0, x1, z0, z1, height):
             total += sx * sz * math.copysign(1, dx) * math.copysign(1, dz) * corner_form_factor(
                 abs(dx), abs(dz), height)
     return total
-
-
-def samples(points, surface_id):
-    data = vtkPolyData()
-    pts = vtkPoints()
-    pts.SetDataTypeToDouble()
-    verts = vtkCellArray()
-    ids = vtkIntArray()
-    ids.SetName("SurfaceId")
-    for p in points:
-        verts.InsertNextCell(1)
-        verts.InsertCellPoint(pts.InsertNextPoint(p))
-        ids.InsertNextValue(surface_id)
-    data.SetPoints(pts)
-    data.SetVerts(verts)
-    data.GetCellData().AddArray(ids)
-    return data
 
 
 def cell_of(scene, predicate):

@@ -24,6 +24,7 @@ from .vtkPenumbraFilters import (  # noqa: F401
     vtkProgressiveShooter,
     vtkRadianceEvaluator,
     vtkRadianceReconstructor,
+    vtkStandardRadiositySolver,
 )
 
 import os

@@ -2,6 +2,7 @@
 """The `penumbra` command line.
 
     penumbra solve SCENE -o OUT.vtp [--png OUT.png] [--threads N]
+                   [--method discontinuity|standard]
     penumbra scenes
     penumbra render IN.vtp -o OUT.png [--camera cornell|auto]
 
@@ -83,8 +84,17 @@ def _command_solve(args):
         low, high = stage_weights.get(stage, (0.0, 1.0))
         bar.update(low + (high - low) * fraction, stage)
 
+    standard_settings = {}
+    if args.method == "standard":
+        if args.direct_only:
+            return _fail("--direct-only applies to the discontinuity method only")
+        if args.element_size is not None:
+            standard_settings["element_size"] = args.element_size
+    elif args.element_size is not None:
+        return _fail("--element-size applies to --method standard only")
     result = penumbra.solve(args.scene, threads=args.threads, indirect=not args.direct_only,
-                            unshot_fraction=args.unshot, progress=progress)
+                            unshot_fraction=args.unshot, progress=progress, method=args.method,
+                            **standard_settings)
     writer = vtkXMLPolyDataWriter()
     writer.SetFileName(args.output)
     writer.SetInputData(result)
@@ -126,6 +136,13 @@ def _positive_int(text):
     return value
 
 
+def _element_size(text):
+    value = float(text)
+    if not 0.001 <= value <= 1.0:
+        raise argparse.ArgumentTypeError("must be in [0.001, 1], got %s" % text)
+    return value
+
+
 def build_parser():
     parser = argparse.ArgumentParser(
         prog="penumbra",
@@ -143,6 +160,15 @@ def build_parser():
     solve.add_argument("--png", metavar="OUT.png", help="also render a picture of the result")
     solve.add_argument("--threads", type=_positive_int, metavar="N",
                        help="worker threads (default: all cores)")
+    solve.add_argument("--method", choices=("discontinuity", "standard"),
+                       default="discontinuity",
+                       help="'discontinuity' (default): the paper's discontinuity meshing "
+                            "pipeline; 'standard': the baseline it beat (uniform mesh, "
+                            "progressive refinement, ray-cast form factors, adaptive "
+                            "subdivision, Gouraud display)")
+    solve.add_argument("--element-size", type=_element_size, metavar="S",
+                       help="--method standard: longest initial element edge relative to the "
+                            "scene's size, in [0.001, 1] (default 0.05)")
     solve.add_argument("--direct-only", action="store_true",
                        help="direct light only (no progressive shooting)")
     solve.add_argument("--unshot", type=float, default=1e-3, metavar="F",

@@ -2,8 +2,37 @@
 """The composed Penumbra pipeline: `solve(scene)` wires the filters with good
 defaults and returns the result vtkPolyData (design contract: triangles with
 `SurfaceId`, point data `Radiance` and `RadianceErrorEstimate`, lines with
-`DiscontinuityOrder` and `SourceId`)."""
+`DiscontinuityOrder` and `SourceId`). `solve(scene, method="standard")` runs
+the standard radiosity baseline instead (vtkStandardRadiositySolver: same
+contract, no `RadianceErrorEstimate`)."""
+
+METHODS = ("discontinuity", "standard")
+STANDARD_SETTINGS = ("element_size", "patch_size", "subdivision_threshold",
+                     "maximum_subdivision_depth", "shooter_samples", "form_factor")
 from vtkmodules.vtkCommonDataModel import vtkPolyData
+
+
+def point_samples(points, surface_id):
+    """Sample points for vtkRadianceEvaluator's input port 0: one vertex cell
+    per point (double precision), all on surface `surface_id` (cell data
+    `SurfaceId`). The evaluator then gives the radiance at exactly these points."""
+    from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray
+
+    data = vtkPolyData()
+    pts = vtkPoints()
+    pts.SetDataTypeToDouble()
+    verts = vtkCellArray()
+    ids = vtkIntArray()
+    ids.SetName("SurfaceId")
+    for p in points:
+        verts.InsertNextCell(1)
+        verts.InsertCellPoint(pts.InsertNextPoint(p))
+        ids.InsertNextValue(surface_id)
+    data.SetPoints(pts)
+    data.SetVerts(verts)
+    data.GetCellData().AddArray(ids)
+    return data
 
 
 def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2, indirect=True,
@@ -38,21 +67,66 @@ def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2, indirect=
     return stages
 
 
+def build_standard(scene_port, unshot_fraction=1e-3, element_size=None, patch_size=None,
+                   subdivision_threshold=None, maximum_subdivision_depth=None,
+                   shooter_samples=None, form_factor="analytic"):
+    """The standard radiosity baseline after `scene_port`, as a one-stage dict
+    {"standard": vtkStandardRadiositySolver}; None keeps the filter's default.
+    form_factor: "analytic" (closed form times the ray-cast visible fraction,
+    the default) or "disc" (Wallace et al.'s disc sum, as published)."""
+    import penumbra
+
+    solver = penumbra.vtkStandardRadiositySolver()
+    modes = {"analytic": solver.ANALYTIC_VISIBILITY, "disc": solver.DISC}
+    if form_factor not in modes:
+        raise penumbra.PenumbraError("form_factor must be 'analytic' or 'disc', got '%s'"
+                                     % form_factor)
+    solver.SetFormFactorMode(modes[form_factor])
+    solver.SetInputConnection(scene_port)
+    solver.SetUnshotFraction(unshot_fraction)
+    for setter, value in ((solver.SetElementSize, element_size),
+                          (solver.SetPatchSize, patch_size),
+                          (solver.SetSubdivisionThreshold, subdivision_threshold),
+                          (solver.SetMaximumSubdivisionDepth, maximum_subdivision_depth),
+                          (solver.SetShooterSamples, shooter_samples)):
+        if value is not None:
+            setter(value)
+    return {"standard": solver}
+
+
 def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, indirect=True,
-          unshot_fraction=1e-3, exact_power_fraction=1.0, progress=None):
+          unshot_fraction=1e-3, exact_power_fraction=1.0, progress=None,
+          method="discontinuity", **standard_settings):
     """Solve `scene` (a built-in name, a .vtp/.obj path, or a scene vtkPolyData).
 
     threads: worker threads (default: all cores). indirect: run the
     progressive shooter for interreflections (False: direct light only);
     unshot_fraction: stop shooting when the unshot power is below this
     fraction of the emitted power. progress: a callable
-    progress(stage_name, fraction) called as the stages run. Returns the
-    result vtkPolyData; raises penumbra.PenumbraError for bad input.
+    progress(stage_name, fraction) called as the stages run. method:
+    "discontinuity" (the default, the paper's method) or "standard" (the
+    baseline: uniform mesh, progressive refinement, adaptive subdivision;
+    `indirect` must then be True, and standard_settings may set
+    element_size, patch_size, subdivision_threshold,
+    maximum_subdivision_depth, shooter_samples and form_factor, see
+    build_standard).
+    Returns the result vtkPolyData; raises penumbra.PenumbraError for bad
+    input or settings.
     """
     import penumbra
     from vtkmodules.vtkCommonCore import vtkCommand, vtkSMPTools
     from vtkmodules.vtkCommonExecutionModel import vtkTrivialProducer
 
+    if method not in METHODS:
+        raise penumbra.PenumbraError("unknown method '%s': give one of %s"
+                                     % (method, ", ".join(METHODS)))
+    if method == "standard" and not indirect:
+        raise penumbra.PenumbraError("the standard method always computes the interreflections")
+    unknown = set(standard_settings) - set(STANDARD_SETTINGS)
+    if unknown or (method != "standard" and standard_settings):
+        raise penumbra.PenumbraError(
+            "%s: not a setting of the %s method" % (", ".join(sorted(unknown or standard_settings)),
+                                                    method))
     if threads is not None:
         vtkSMPTools.Initialize(int(threads))
     if isinstance(scene, vtkPolyData):
@@ -63,15 +137,18 @@ def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, indirect=
         scene_data = penumbra.load_scene(scene)
     source = vtkTrivialProducer()
     source.SetOutput(scene_data)
-    stages = build_pipeline(source.GetOutputPort(), minimum_angle, subdivision_level, indirect,
-                            unshot_fraction, exact_power_fraction)
+    if method == "standard":
+        stages = build_standard(source.GetOutputPort(), unshot_fraction, **standard_settings)
+    else:
+        stages = build_pipeline(source.GetOutputPort(), minimum_angle, subdivision_level,
+                                indirect, unshot_fraction, exact_power_fraction)
     if progress is not None:
         for name, algorithm in stages.items():
             algorithm.AddObserver(
                 vtkCommand.ProgressEvent,
                 lambda caller, _event, name=name: progress(name, caller.GetProgress()))
     result = vtkPolyData()
-    result.ShallowCopy(penumbra.run_filter(stages["reconstructor"]))
+    result.ShallowCopy(penumbra.run_filter(stages[list(stages)[-1]]))
     if "shooter" in stages:
         # Keep the shooter's report (shots, unshot fraction, energy) with the result.
         result.GetFieldData().PassData(stages["shooter"].GetOutput().GetFieldData())
