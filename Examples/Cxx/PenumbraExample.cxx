@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Build the Cornell box, check it against the data contract and write it as
-// a .vtp that ParaView opens: usage `PenumbraExample OUT.vtp`.
+// Solve the Cornell box (direct light and interreflections) and write the
+// result as a .vtp that ParaView opens: usage `PenumbraExample OUT.vtp`.
 #include "vtkNew.h"
 #include "vtkPenumbraSceneSource.h"
-#include "vtkPenumbraSceneValidator.h"
+#include "vtkPenumbraSolver.h"
 #include "vtkXMLPolyDataWriter.h"
 
 #include <iostream>
@@ -17,10 +17,11 @@ int main(int argc, char* argv[])
   }
   vtkNew<vtkPenumbraSceneSource> scene;
   scene->SetSceneName("cornell");
-  vtkNew<vtkPenumbraSceneValidator> validator;
-  validator->SetInputConnection(scene->GetOutputPort());
+  vtkNew<vtkPenumbraSolver> solver; // mesher, evaluator, shooter, reconstructor
+  solver->SetInputConnection(scene->GetOutputPort());
+  solver->SetUnshotFraction(1e-3); // stop when 0.1% of the emitted power is left
   vtkNew<vtkXMLPolyDataWriter> writer;
-  writer->SetInputConnection(validator->GetOutputPort());
+  writer->SetInputConnection(solver->GetOutputPort());
   writer->SetDataModeToBinary(); // inline data: what every ParaView reads
   writer->SetFileName(argv[1]);
   if (!writer->Write())

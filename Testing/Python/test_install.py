@@ -42,3 +42,12 @@ def test_install_layout_and_downstream_project(tmp_path):
     _run(["cmake", "--build", str(build)])
     out = _run([str(build / "PenumbraExample"), str(tmp_path / "example.vtp")], cwd=str(tmp_path))
     assert (tmp_path / "example.vtp").stat().st_size > 0, out
+    # The example solved the box: radiance everywhere, finite, non-negative, lit.
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(str(tmp_path / "example.vtp"))
+    reader.Update()
+    radiance = vtk_to_numpy(reader.GetOutput().GetPointData().GetArray("Radiance"))
+    assert len(radiance) > 1000 and (radiance >= 0).all() and radiance.max() > 0
+    assert reader.GetOutput().GetFieldData().GetArray("Shots").GetValue(0) > 10

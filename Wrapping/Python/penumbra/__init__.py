@@ -21,6 +21,7 @@ from .vtkPenumbraFilters import (  # noqa: F401
     vtkPenumbraOBJReader,
     vtkPenumbraSceneSource,
     vtkPenumbraSceneValidator,
+    vtkPenumbraSolver,
     vtkProgressiveShooter,
     vtkRadianceEvaluator,
     vtkRadianceReconstructor,

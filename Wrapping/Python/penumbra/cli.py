@@ -77,12 +77,8 @@ def _command_solve(args):
 
     start = time.time()
     bar = ProgressBar("solving", enabled=not args.quiet)
-    stage_weights = {"mesher": (0.0, 0.05), "evaluator": (0.05, 0.3), "shooter": (0.3, 0.95),
-                     "reconstructor": (0.95, 1.0)}
-
     def progress(stage, fraction):
-        low, high = stage_weights.get(stage, (0.0, 1.0))
-        bar.update(low + (high - low) * fraction, stage)
+        bar.update(fraction, stage)
 
     standard_settings = {}
     if args.method == "standard":

@@ -103,7 +103,8 @@ def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, indirect=
     progressive shooter for interreflections (False: direct light only);
     unshot_fraction: stop shooting when the unshot power is below this
     fraction of the emitted power. progress: a callable
-    progress(stage_name, fraction) called as the stages run. method:
+    progress(stage_name, fraction) called as the solve runs (fraction of
+    the whole solve, from 0 to 1). method:
     "discontinuity" (the default, the paper's method) or "standard" (the
     baseline: uniform mesh, progressive refinement, adaptive subdivision;
     `indirect` must then be True, and standard_settings may set
@@ -135,21 +136,26 @@ def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, indirect=
         scene_data = penumbra.run_filter(validator)
     else:
         scene_data = penumbra.load_scene(scene)
-    source = vtkTrivialProducer()
-    source.SetOutput(scene_data)
     if method == "standard":
-        stages = build_standard(source.GetOutputPort(), unshot_fraction, **standard_settings)
+        source = vtkTrivialProducer()
+        source.SetOutput(scene_data)
+        algorithm = build_standard(source.GetOutputPort(), unshot_fraction,
+                                   **standard_settings)["standard"]
     else:
-        stages = build_pipeline(source.GetOutputPort(), minimum_angle, subdivision_level,
-                                indirect, unshot_fraction, exact_power_fraction)
+        # The composed pipeline is the C++ vtkPenumbraSolver (one definition
+        # of the defaults for C++, Python and the command line).
+        algorithm = penumbra.vtkPenumbraSolver()
+        algorithm.SetInputData(scene_data)
+        algorithm.SetMinimumAngle(minimum_angle)
+        algorithm.SetSubdivisionLevel(subdivision_level)
+        algorithm.SetIndirect(bool(indirect))
+        algorithm.SetUnshotFraction(unshot_fraction)
+        algorithm.SetExactPowerFraction(exact_power_fraction)
     if progress is not None:
-        for name, algorithm in stages.items():
-            algorithm.AddObserver(
-                vtkCommand.ProgressEvent,
-                lambda caller, _event, name=name: progress(name, caller.GetProgress()))
+        algorithm.AddObserver(
+            vtkCommand.ProgressEvent,
+            lambda caller, _event: progress(caller.GetProgressText() or method,
+                                            caller.GetProgress()))
     result = vtkPolyData()
-    result.ShallowCopy(penumbra.run_filter(stages[list(stages)[-1]]))
-    if "shooter" in stages:
-        # Keep the shooter's report (shots, unshot fraction, energy) with the result.
-        result.GetFieldData().PassData(stages["shooter"].GetOutput().GetFieldData())
+    result.ShallowCopy(penumbra.run_filter(algorithm))
     return result

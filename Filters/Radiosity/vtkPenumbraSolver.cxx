@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkPenumbraSolver.h"
+
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
+#include "vtkDiscontinuityMesher.h"
+#include "vtkExecutive.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPolyData.h"
+#include "vtkProgressiveShooter.h"
+#include "vtkRadianceEvaluator.h"
+#include "vtkRadianceReconstructor.h"
+
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkPenumbraSolver);
+
+namespace
+{
+/// One stage of the solve: its filter, name and share of the progress bar.
+struct Stage
+{
+  vtkAlgorithm* Filter;
+  const char* Name;
+  double Weight;
+};
+
+/// What the observers of a stage need: the solver, the stage's progress
+/// range, and the last error message the stage reported.
+struct StageObserver
+{
+  vtkPenumbraSolver* Solver = nullptr;
+  const char* Name = "";
+  double Start = 0.0;
+  double Weight = 0.0;
+  std::string Error;
+};
+
+void OnStageProgress(vtkObject* caller, unsigned long, void* clientData, void*)
+{
+  auto* observer = static_cast<StageObserver*>(clientData);
+  auto* filter = static_cast<vtkAlgorithm*>(caller);
+  if (observer->Solver->GetAbortExecute())
+  {
+    filter->SetAbortExecute(1);
+  }
+  observer->Solver->SetProgressText(observer->Name);
+  observer->Solver->UpdateProgress(observer->Start + observer->Weight * filter->GetProgress());
+}
+
+void OnStageError(vtkObject*, unsigned long, void* clientData, void* callData)
+{
+  auto* observer = static_cast<StageObserver*>(clientData);
+  observer->Error = callData ? static_cast<const char*>(callData) : "unknown error";
+}
+} // namespace
+
+int vtkPenumbraSolver::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->Initialize();
+  if (!input)
+  {
+    vtkErrorMacro(<< "no scene on input port 0");
+    return 0;
+  }
+  vtkNew<vtkPolyData> scene;
+  scene->ShallowCopy(input);
+
+  vtkNew<vtkDiscontinuityMesher> mesher;
+  mesher->SetInputData(scene);
+  mesher->SetMinimumAngle(this->MinimumAngle);
+  vtkNew<vtkRadianceEvaluator> evaluator;
+  evaluator->SetInputConnection(0, mesher->GetOutputPort());
+  evaluator->SetSceneData(scene);
+  evaluator->SetSamplingTolerance(this->SamplingTolerance);
+  vtkNew<vtkProgressiveShooter> shooter;
+  shooter->SetInputConnection(0, evaluator->GetOutputPort());
+  shooter->SetSceneData(scene);
+  shooter->SetUnshotFraction(this->UnshotFraction);
+  shooter->SetExactPowerFraction(this->ExactPowerFraction);
+  vtkNew<vtkRadianceReconstructor> reconstructor;
+  reconstructor->SetInputConnection(
+    this->Indirect ? shooter->GetOutputPort() : evaluator->GetOutputPort());
+  reconstructor->SetSubdivisionLevel(this->SubdivisionLevel);
+
+  // Shares of the progress bar: about the shares of the time on the Cornell box.
+  std::vector<Stage> stages = { { mesher, "mesher", 0.02 }, { evaluator, "evaluator", 0.15 },
+    { shooter, "shooter", 0.78 }, { reconstructor, "reconstructor", 0.05 } };
+  if (!this->Indirect)
+  {
+    stages = { { mesher, "mesher", 0.1 }, { evaluator, "evaluator", 0.8 },
+      { reconstructor, "reconstructor", 0.1 } };
+  }
+  std::vector<StageObserver> observers(stages.size());
+  std::vector<vtkNew<vtkCallbackCommand>> progress(stages.size()), errors(stages.size());
+  double start = 0.0;
+  for (std::size_t k = 0; k < stages.size(); ++k)
+  {
+    observers[k].Solver = this;
+    observers[k].Name = stages[k].Name;
+    observers[k].Start = start;
+    observers[k].Weight = stages[k].Weight;
+    start += stages[k].Weight;
+    progress[k]->SetCallback(OnStageProgress);
+    progress[k]->SetClientData(&observers[k]);
+    stages[k].Filter->AddObserver(vtkCommand::ProgressEvent, progress[k]);
+    errors[k]->SetCallback(OnStageError);
+    errors[k]->SetClientData(&observers[k]);
+    stages[k].Filter->AddObserver(vtkCommand::ErrorEvent, errors[k]);
+  }
+
+  // Stage by stage, so that an error names its stage.
+  for (std::size_t k = 0; k < stages.size(); ++k)
+  {
+    const int ok = stages[k].Filter->GetExecutive()->Update();
+    if (this->GetAbortExecute())
+    {
+      return 1;
+    }
+    if (!ok || !observers[k].Error.empty())
+    {
+      vtkErrorMacro(<< stages[k].Name << ": "
+                    << (observers[k].Error.empty() ? "failed" : observers[k].Error));
+      return 0;
+    }
+  }
+  output->ShallowCopy(reconstructor->GetOutput());
+  if (this->Indirect)
+  {
+    // Keep the shooter's report (shots, unshot fraction, energy) with the result.
+    output->GetFieldData()->PassData(shooter->GetOutput()->GetFieldData());
+  }
+  this->SetProgressText(nullptr);
+  return 1;
+}
+
+void vtkPenumbraSolver::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Indirect: " << (this->Indirect ? "On" : "Off") << "\n";
+  os << indent << "UnshotFraction: " << this->UnshotFraction << "\n";
+  os << indent << "ExactPowerFraction: " << this->ExactPowerFraction << "\n";
+  os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
+  os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
+  os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
+}
