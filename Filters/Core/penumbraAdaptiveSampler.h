@@ -134,7 +134,9 @@ struct AdaptiveSamplingSettings
   int MaximumSamples = 200000;
   /// Minimum feature size, relative to the receiver's diameter (bounding-box
   /// diagonal): triangles narrower than this (smallest altitude) are not
-  /// refined, nor edges shorter than it split. Bounds the cost at features
+  /// refined, nor edges shorter than it split. For a receiver narrower than
+  /// it is long, the width bound is this fraction of its width (2 area /
+  /// diameter) instead, so a thin strip is still refined along its length. Bounds the cost at features
   /// no finite sampling resolves (penumbrae shrinking to nothing at contact
   /// corners, slivers between nearly coincident lines, unmeshed EEE curves).
   /// [1e-4], in [0, 1]
