@@ -22,8 +22,7 @@ if [ ! -f "$build_dir/build.ninja" ]; then
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
     -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
     -DPENUMBRA_WRAP_PYTHON=OFF \
-    -DPENUMBRA_BUILD_BENCHMARKS=OFF \
-    -DPython3_EXECUTABLE=/usr/bin/python3
+    -DPENUMBRA_BUILD_BENCHMARKS=OFF
 fi
 ninja -C "$build_dir" -j2
 

@@ -5,11 +5,12 @@
 #   Testing/Scripts/valgrind.sh [build folder, default build]
 #     [unshot fraction, default 0.1] [sampling tolerance, default 0.002]
 # (the defaults: every direct-light setting as penumbra.solve's, the shooting
-# loop stopped early; about 30 minutes on one core).
+# loop stopped early): 33 minutes; "build 0.1 0.05": 5 minutes.
 # Uses an existing (Release) build; needs valgrind (apt-get install valgrind).
-# Fails when memcheck reports an error or a definite leak. Third-party
-# suppressions (TBB, Embree internals) are in valgrind.supp beside this script,
-# each with the reason it is not Penumbra's.
+# Fails when memcheck reports an error or a definite leak. No suppression is
+# needed (measured: 0 errors, 0 bytes definitely or indirectly lost). The 336
+# bytes "possibly lost" are the thread-local block of a TBB worker thread that
+# Embree's rtcCommitScene starts (TBB keeps its pool for the process's life).
 set -euo pipefail
 
 source_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -24,5 +25,4 @@ export VTK_SMP_BACKEND_IN_USE=Sequential
 valgrind --tool=memcheck --error-exitcode=99 --leak-check=full \
   --show-leak-kinds=definite --errors-for-leak-kinds=definite \
   --track-origins=yes --num-callers=30 \
-  --suppressions="$source_dir/Testing/Scripts/valgrind.supp" \
   "$build_dir/bin/TestCornellSolve" "$unshot_fraction" "$sampling_tolerance"
