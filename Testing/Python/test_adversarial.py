@@ -518,7 +518,8 @@ def run_case(case):
     if dark_reference.size and dark_reference.max() != 0.0:
         problems.append("the reference is not zero in a dark region: the case is wrong")
     if dark_max != 0.0:
-        problems.append(f"light in a dark region: up to {dark_max:.3g} ({dark_max / scale:.2e} of scale)")
+        problems.append(f"light in a dark region: up to {dark_max:.3g} "
+                        f"({dark_max / scale:.2e} of scale)")
     if max_error > MAX_ERROR_TOLERANCE:
         worst = int(np.argmax(error.max(axis=1)))
         problems.append(f"max error {max_error:.3g} > {MAX_ERROR_TOLERANCE} (surface "
