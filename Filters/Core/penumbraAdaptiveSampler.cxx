@@ -289,6 +289,53 @@ struct Receiver
     distance = std::min(this->SideOffset * this->Diameter, 0.5 * l);
   }
 
+  // Side sample direction of point p when its triangles form a fan with two
+  // free edges (a point of the outline or of an order-0 line): the bisector
+  // of the fan, so that a line crossing the boundary there at right angles
+  // (e.g. where a shooter's plane crosses the receiver's outline) keeps the
+  // point; returns false for a closed fan.
+  bool FanBisector(int p, double& du, double& dv, double& distance) const
+  {
+    const P2 a = this->PointUV(p);
+    int first = -1, last = -1;
+    double shortest = HUGE_VAL;
+    for (int c = this->CornerStart[p]; c < this->CornerStart[p + 1]; ++c)
+    {
+      const auto& tri = this->Snap.Triangles[this->Corners[c] / 3];
+      const int k = this->Corners[c] % 3, next = tri[(k + 1) % 3], prev = tri[(k + 2) % 3];
+      bool nextShared = false, prevShared = false;
+      for (int o = this->CornerStart[p]; o < this->CornerStart[p + 1]; ++o)
+      {
+        const auto& other = this->Snap.Triangles[this->Corners[o] / 3];
+        const int j = this->Corners[o] % 3;
+        nextShared = nextShared || other[(j + 2) % 3] == next;
+        prevShared = prevShared || other[(j + 1) % 3] == prev;
+      }
+      first = nextShared ? first : next;
+      last = prevShared ? last : prev;
+      for (const int q : { next, prev })
+      {
+        const P2 b = this->PointUV(q);
+        shortest = std::min(shortest, std::hypot(b[0] - a[0], b[1] - a[1]));
+      }
+    }
+    if (first < 0 || last < 0)
+    {
+      return false;
+    }
+    const P2 f = this->PointUV(first), l = this->PointUV(last);
+    const double start = std::atan2(f[1] - a[1], f[0] - a[0]);
+    double sweep = std::atan2(l[1] - a[1], l[0] - a[0]) - start;
+    while (sweep <= 0.0)
+    {
+      sweep += 2.0 * M_PI;
+    }
+    du = std::cos(start + 0.5 * sweep);
+    dv = std::sin(start + 0.5 * sweep);
+    distance = std::min(this->SideOffset * this->Diameter, 0.25 * shortest);
+    return true;
+  }
+
   // Side sample direction of point p: toward the centroid of its triangle
   // with the largest angle at p (strictly inside the sector).
   int WidestTriangle(int p) const
@@ -423,7 +470,10 @@ void AssignValues(Receiver& rec, const RadianceBatchFunction& evaluate,
     if (rec.PointSided[p])
     {
       double du, dv, distance;
-      rec.SideDirection(rec.WidestTriangle(p), rec.PointUV(p), du, dv, distance);
+      if (!rec.FanBisector(p, du, dv, distance))
+      {
+        rec.SideDirection(rec.WidestTriangle(p), rec.PointUV(p), du, dv, distance);
+      }
       added[k].Du = du;
       added[k].Dv = dv;
       added[k].Sided = true;

@@ -320,17 +320,14 @@ def _corner_light():
 
 def _corner_light_wall_above():
     # The same wall going on above the light's plane, where it is behind the
-    # light: exactly dark there.
+    # light: exactly dark there. Its corner (0, 1, 1), where the light's plane
+    # (a D1 line) meets its outline, was once evaluated 1e-9 inside toward a
+    # triangle below the plane: 1e-10 of light shared with the wall above.
     return Case("corner light, wall above the light's plane dark", [
         floor(), quad((0, 0, 0), (0, 1.2, 0), (0, 0, 1)),
         light(0.0, 0.4, 0.2, 0.2, 1.0)], receivers=[0, 1],
         dark_regions=[(1, (-1, 1.0, -1), (1, 1.2, 2))],
-        focus=[(1, (-1, 0.9, 0.3), (1, 1.0, 0.7))],
-        xfail="the wall's corner (0, 1, 1), where its outline meets the light's plane (a D1 "
-              "line), is evaluated 1e-9 of the diameter inside the wall toward the centroid "
-              "of its widest triangle (AdaptiveSamplingSettings::SideOffset), which lies "
-              "below the plane: it gets 1e-10 instead of 0, shared with the triangles above "
-              "the plane (5e-11 of the scale)")
+        focus=[(1, (-1, 0.9, 0.3), (1, 1.0, 0.7))])
 
 
 def _slivers():
