@@ -56,12 +56,16 @@
  *
  * Value discontinuities and boundaries. Points on order-0 lines are
  * duplicated, one copy per side (see ReceiverMesh). Each copy is evaluated
- * *inside its own side*: at the point moved toward the centroid of one of
- * its triangles (the one with the largest angle at the point) by SideOffset
- * times the receiver's diameter (at most half the way), so an evaluator that
+ * *inside its own side*: at the point moved along the bisector of its fan of
+ * triangles (or, for a closed fan, toward the centroid of its triangle with
+ * the largest angle at the point) by SideOffset times the receiver's
+ * diameter (at most a quarter of its shortest edge; the bisector keeps a
+ * point where a D1 line meets the outline at right angles, such as a
+ * shooter's plane crossing the receiver, on that line), so an evaluator that
  * is discontinuous there (e.g. an occluder standing on the line, which from
  * a point in its plane casts no shadow) returns that side's limit. New
- * points on an order-0 edge are evaluated once per kept side the same way.
+ * points on an order-0 edge are evaluated once per kept side, moved toward
+ * the centroid of that side's triangle.
  * Points on the receiver's outline (order -1) are moved inside the same way:
  * a wall standing on the outline (the Cornell floor's) is otherwise hit from
  * its back side by points that rounding puts a few ulps outside, which then
@@ -134,7 +138,9 @@ struct AdaptiveSamplingSettings
   int MaximumSamples = 200000;
   /// Minimum feature size, relative to the receiver's diameter (bounding-box
   /// diagonal): triangles narrower than this (smallest altitude) are not
-  /// refined, nor edges shorter than it split. Bounds the cost at features
+  /// refined, nor edges shorter than it split. For a receiver narrower than
+  /// it is long, the width bound is this fraction of its width (2 area /
+  /// diameter) instead, so a thin strip is still refined along its length. Bounds the cost at features
   /// no finite sampling resolves (penumbrae shrinking to nothing at contact
   /// corners, slivers between nearly coincident lines, unmeshed EEE curves).
   /// [1e-4], in [0, 1]

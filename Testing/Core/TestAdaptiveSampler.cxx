@@ -791,6 +791,77 @@ void TestDirectAccuracy()
 }
 
 //------------------------------------------------------------------------------
+// The uniform grid samples the outline too, at about the grid's spacing: the
+// outline given by its corners alone once left long thin triangles along each
+// edge (6% error along a floor's edge in test_adversarial.py), and a strip
+// narrower than the grid (aspect 1e6) got its four corners and nothing else.
+void TestUniformSamplesTheOutline()
+{
+  for (const double height : { 1.0, 1e-6 })
+  {
+    ReceiverMesh mesh = StripMesh({}, {}, 1);
+    for (Vec3& p : mesh.Points)
+    {
+      p.Y *= height;
+    }
+    for (DiscontinuitySegment& segment : mesh.Segments)
+    {
+      segment.A = mesh.Points[segment.PointA];
+      segment.B = mesh.Points[segment.PointB];
+    }
+    const AdaptiveSamplingResult r = SampleReceiverUniform(
+      mesh, 256, Batch([](const Vec3& p) { return 2.0 + std::sin(3.0 * p.X); }));
+    double longest = 0.0;
+    for (const DiscontinuitySegment& segment : r.Mesh.Segments)
+    {
+      if (segment.Order < 0)
+      {
+        longest = std::max(longest, Length(segment.B - segment.A));
+      }
+    }
+    // The square: grid spacing 1/16 (256 samples); the strip: its perimeter
+    // (about 2) over half the samples.
+    const double spacing = height == 1.0 ? 1.0 / 16.0 : 2.0 * 2.0 / 256.0;
+    std::printf("uniform sampling of a 1 x %g rectangle: %d samples, longest outline edge %.4f\n",
+      height, r.Statistics.Samples, longest);
+    PENUMBRA_EXPECT(longest <= 1.01 * spacing);
+    PENUMBRA_EXPECT(r.Statistics.Samples >= (height == 1.0 ? 200 : 120));
+    PENUMBRA_EXPECT(std::abs(MeshArea(r.Mesh, Vec3(0, 0, 1)) - height) < 1e-9 * height);
+  }
+}
+
+//------------------------------------------------------------------------------
+// A strip 1e-6 wide and 1 long (aspect 1e6) is refined along its length: all
+// its triangles are narrower than MinimumFeatureSize times its diameter, and
+// the strip was once left with its initial points (1.3% RMS error in
+// test_adversarial.py's sliver case).
+void TestThinStripIsRefined()
+{
+  ReceiverMesh mesh = StripMesh({ 0.5 }, { 1 }, 1);
+  for (Vec3& p : mesh.Points)
+  {
+    p.Y *= 1e-6;
+  }
+  for (DiscontinuitySegment& segment : mesh.Segments)
+  {
+    segment.A = mesh.Points[segment.PointA];
+    segment.B = mesh.Points[segment.PointB];
+  }
+  const AdaptiveSamplingResult r =
+    SampleReceiver(mesh, Batch([](const Vec3& p) { return 2.0 + std::sin(3.0 * p.X); }));
+  double worst = 0.0;
+  for (double x : r.Probes.Residuals)
+  {
+    worst = std::max(worst, std::abs(x));
+  }
+  std::printf("thin strip: %d -> %d samples, largest probe residual %.3g (tolerance %.3g)\n",
+    r.Statistics.InitialSamples, r.Statistics.Samples, worst, r.Tolerance.R);
+  PENUMBRA_EXPECT(r.Statistics.Samples > 4 * r.Statistics.InitialSamples);
+  PENUMBRA_EXPECT(r.Statistics.Converged);
+  PENUMBRA_EXPECT(worst <= r.Tolerance.R);
+}
+
+//------------------------------------------------------------------------------
 // Settings and input errors.
 void TestBadInput()
 {
@@ -824,6 +895,8 @@ int main()
   TestBudgetAndDeterminism();
   TestMesherMeshes();
   TestDirectAccuracy();
+  TestUniformSamplesTheOutline();
+  TestThinStripIsRefined();
   TestBadInput();
   return testing::Result();
 }

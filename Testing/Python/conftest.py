@@ -25,3 +25,10 @@ def run_penumbra(*args, cwd=None, env=None):
 @pytest.fixture
 def penumbra_cli():
     return run_penumbra
+
+
+def pytest_terminal_summary(terminalreporter):
+    """Tables that tests leave in config.penumbra_report_lines (e.g. the
+    adversarial suite's), printed after the results, uncaptured."""
+    for line in getattr(terminalreporter.config, "penumbra_report_lines", []):
+        terminalreporter.write_line(line)
