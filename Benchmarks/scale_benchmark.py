@@ -1,0 +1,121 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Scale benchmark (issue 8): the default solve of generated rooms full of
+boxes (penumbra.generators.box_room) of N polygons.
+
+    PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
+        Benchmarks/scale_benchmark.py [--sizes 1000 5000 20000] [--threads 2]
+
+Each size runs in its own process (so peak memory is that solve's alone):
+penumbra.solve(scene, unshot_fraction=0.01), i.e. direct light plus
+interreflections until 1% of the emitted power is left unshot. Prints a
+Markdown table (polygons, wall time, peak resident memory, samples, shots)
+and the least-squares growth exponents of time and memory against the
+number of polygons, and draws a log-log chart into --out
+(default build/benchmarks). Targets (issue 8): 20,000 polygons in under
+5 minutes and 4 GB on 2 cores.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TARGET_SECONDS, TARGET_MB = 300.0, 4096.0
+
+
+def run_child(polygons, threads, seed):
+    """One solve, in this process; prints one JSON line."""
+    sys.path.insert(0, HERE)
+    import penumbra
+    from penumbra.generators import box_room
+    from speed_accuracy import peak_memory_mb
+
+    scene = box_room(polygons, seed=seed)
+    start = time.perf_counter()
+    result = penumbra.solve(scene, threads=threads, unshot_fraction=0.01)
+    seconds = time.perf_counter() - start
+    field = result.GetFieldData()
+    print(json.dumps({
+        "polygons": scene.GetNumberOfCells(), "seconds": seconds, "peak_mb": peak_memory_mb(),
+        "output_points": result.GetNumberOfPoints(),
+        "shots": int(field.GetArray("Shots").GetValue(0)),
+        "unshot": field.GetArray("UnshotFraction").GetValue(0)}))
+
+
+def fit(xs, ys):
+    import numpy as np
+    return float(np.polyfit(np.log(xs), np.log(ys), 1)[0]) if len(xs) > 1 else float("nan")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 5000, 20000])
+    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--timeout", type=float, default=3600.0,
+                        help="seconds allowed per size before it is reported as not finished")
+    parser.add_argument("--out", default=os.path.join(os.path.dirname(HERE), "build", "benchmarks"))
+    parser.add_argument("--child", type=int, help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child is not None:
+        run_child(args.child, args.threads, args.seed)
+        return 0
+
+    rows = []
+    print("| polygons | time (s) | peak memory (MB) | output points | shots | unshot left |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    for size in args.sizes:
+        command = [sys.executable, os.path.abspath(__file__), "--child", str(size),
+                   "--threads", str(args.threads), "--seed", str(args.seed)]
+        try:
+            done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                  universal_newlines=True, timeout=args.timeout)
+        except subprocess.TimeoutExpired:
+            print("| %d | > %.0f (stopped) | | | | |" % (size, args.timeout), flush=True)
+            continue
+        if done.returncode != 0:
+            print("| %d | failed: %s | | | | |" % (size, (done.stderr.strip().splitlines()
+                                                      or ["?"])[-1]), flush=True)
+            continue
+        row = json.loads(done.stdout.strip().splitlines()[-1])
+        rows.append(row)
+        print("| %d | %.1f | %.0f | %d | %d | %.4f |" % (row["polygons"], row["seconds"],
+              row["peak_mb"], row["output_points"], row["shots"], row["unshot"]), flush=True)
+    if not rows:
+        return 1
+    polygons = [r["polygons"] for r in rows]
+    time_exponent = fit(polygons, [r["seconds"] for r in rows])
+    memory_exponent = fit(polygons, [r["peak_mb"] for r in rows])
+    print("growth: time ~ polygons^%.2f, peak memory ~ polygons^%.2f" % (time_exponent,
+                                                                          memory_exponent))
+    largest = max(rows, key=lambda r: r["polygons"])
+    print("largest (%d polygons): %.0f s (target < %.0f s), %.0f MB (target < %.0f MB)"
+          % (largest["polygons"], largest["seconds"], TARGET_SECONDS, largest["peak_mb"],
+             TARGET_MB))
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    os.makedirs(args.out, exist_ok=True)
+    figure, axis = plt.subplots(figsize=(6, 4.5))
+    axis.loglog(polygons, [r["seconds"] for r in rows], "o-",
+                label="time, s (slope %.2f)" % time_exponent)
+    axis.loglog(polygons, [r["peak_mb"] for r in rows], "s--",
+                label="peak memory, MB (slope %.2f)" % memory_exponent)
+    axis.axhline(TARGET_SECONDS, color="C0", lw=0.8, ls=":")
+    axis.set_xlabel("polygons (box rooms)")
+    axis.set_title("Default solve, %d threads, unshot 1%%" % args.threads)
+    axis.legend()
+    axis.grid(True, which="both", alpha=0.3)
+    path = os.path.join(args.out, "scale.png")
+    figure.tight_layout()
+    figure.savefig(path, dpi=90)
+    print("wrote %s" % path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
