@@ -1,10 +1,10 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Speed against accuracy on the direct-light scenes (issue 7, part 2: a start).
+"""Speed against accuracy: the direct-light scenes and the Cornell box (issue 7).
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Benchmarks/speed_accuracy.py \\
-        [--scenes strip,occluder,seven,blind] [--methods LABELS|all] [--points 4000]
-        [--threads 2] [--out DIR]
+        [--scenes strip,occluder,seven,blind,cornell] [--methods LABELS|all] [--points 4000]
+        [--threads 2] [--out DIR] [--mitsuba-python build/_deps/mitsuba-venv/bin/python]
 
 For each scene and each method it runs one solve in a fresh process (so
 that the peak memory is that run's) and measures the wall time of the
@@ -28,8 +28,15 @@ reconstruction, with linear reconstruction (and with ray-cast evaluation
 on request, see DEFAULT_METHODS); standard radiosity at five mesh
 densities, with a finer subdivision threshold, without subdivision, with
 smaller shooting patches, and with Wallace et al.'s disc form factors as
-published. Not yet here (issue 7): the
-Mitsuba path tracer as a method, the paper's Fig. 5/6 pictures.
+published; on the Cornell box also the Mitsuba 3 path tracer at 16 to
+16,384 samples per pixel, rendering the reference's own sensors (floor
+and back wall, 1 cm pixels; Benchmarks/reference/mitsuba_cornell.py's
+scene and settings, other seeds) in the Mitsuba venv's python
+(--mitsuba-python; left out when there is none). Its time covers loading
+the scene, compiling the kernels and rendering; its samples are camera
+samples (pixels x spp); its error is that of its pixels against the
+reference's, which has 0.17% noise of its own. The paper's Figs. 5 and 6
+are Benchmarks/paper_figures.py.
 
 Writes DIR/speed_accuracy.md, DIR/speed_accuracy.csv and one log-log chart
 of RMS error against time per scene, DIR/speed_accuracy_SCENE.png
@@ -72,7 +79,10 @@ METHODS = (
      {"element_size": 0.05, "shooter_samples": 4, "patch_size": 0.2}),
     ("standard", "standard disc h=0.025 s=8",
      {"element_size": 0.025, "shooter_samples": 8, "form_factor": "disc"}),
-)
+) + tuple(("path tracing", "Mitsuba %d spp" % spp, {"spp": spp})
+          for spp in (16, 64, 256, 1024, 4096, 16384))
+# The path tracer renders the Cornell box only (the reference's sensors).
+PATH_TRACED_SCENES = ("cornell",)
 # Ray-cast evaluation is left out unless asked for (--methods all): with the
 # adaptive sampling it took 318 s and 868,000 samples on "occluder" (exact:
 # 0.65 s, 3,344 samples); the sampling does not settle on its estimates.
@@ -81,7 +91,11 @@ DEFAULT_METHODS = [label for _, label, _ in METHODS if label != "ray cast + cubi
 # finer standard meshes would take minutes each.
 CORNELL_METHODS = ["exact + cubic", "exact + linear", "standard h=0.1 s=2",
                    "standard h=0.05 s=4", "standard h=0.05 s=4 t=0.1",
-                   "standard h=0.05 s=4 p=0.2"]
+                   "standard h=0.05 s=4 p=0.2"] + [
+    label for family, label, _ in METHODS if family == "path tracing"]
+# The Mitsuba venv made by Benchmarks/reference/setup_mitsuba.sh.
+MITSUBA_PYTHON = os.path.join(os.path.dirname(HERE), "build", "_deps", "mitsuba-venv", "bin",
+                              "python")
 FLOOR = 0  # the floor is surface 0 of every scene measured here
 
 
@@ -188,27 +202,83 @@ def cornell_errors(result):
     from compare_cornell import pixel_averages
 
     reference = np.load(CORNELL_REFERENCE, allow_pickle=True)
+    return reference_errors({
+        name: pixel_averages(result, int(reference[name + "_cell_id"]), reference, name, k=2)
+        for name in reference["sensors"].item().split(",")})
+
+
+def reference_errors(images):
+    """|image - Mitsuba reference| / mean reference over the valid pixels of
+    each sensor of `images` (name -> (H, W, 3) pixel averages), all three
+    channels, concatenated."""
+    reference = np.load(CORNELL_REFERENCE, allow_pickle=True)
     relative = []
-    for name in reference["sensors"].item().split(","):
-        ours = pixel_averages(result, int(reference[name + "_cell_id"]), reference, name, k=2)
+    for name, ours in images.items():
         theirs = reference[name + "_radiance"].astype(float)
         valid = reference[name + "_mask"] & np.all(np.isfinite(ours), axis=2)
         relative.append((np.abs(ours[valid] - theirs[valid]) / theirs[valid].mean(axis=0)).ravel())
     return np.concatenate(relative)
 
 
+def path_trace(spp, threads):
+    """Mitsuba 3 renders the reference's sensors (mitsuba_cornell.py's scene,
+    sensors and settings) at `spp` samples per pixel, with seeds the
+    reference did not use. Runs in the Mitsuba venv's python. Returns
+    ({sensor: (H, W, 3) image}, seconds: scene loading, kernel compilation
+    and rendering, total camera samples)."""
+    sys.path.insert(0, os.path.join(HERE, "reference"))
+    import mitsuba_cornell
+
+    reference = np.load(CORNELL_REFERENCE, allow_pickle=True)
+    names = reference["sensors"].item().split(",")
+    settings = mitsuba_cornell.argument_parser().parse_args(
+        ["--spp-per-pass", str(spp), "--passes", "1", "--batches", "1",
+         "--threads", str(threads), "--sensors", ",".join(names)])
+    polygons, reflectance, emission = mitsuba_cornell.load_penumbra_polygons(
+        "cornell", settings.penumbra_pythonpath)
+    sensors = mitsuba_cornell.make_sensors(polygons, names, settings.pixel, settings.height,
+                                           settings.near_clip)
+    for sensor in sensors:
+        if not np.array_equal(sensor["mask"], reference[sensor["name"] + "_mask"]):
+            raise RuntimeError("%s: the sensor differs from the reference's" % sensor["name"])
+    mitsuba_cornell.configure_llvm()
+    import drjit
+    import mitsuba
+
+    mitsuba.set_variant(str(reference["variant"]))
+    drjit.set_thread_count(threads)
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="penumbra-mitsuba-") as folder:
+        scene = mitsuba.load_dict(mitsuba_cornell.build_scene_dict(
+            mitsuba, polygons, reflectance, emission, sensors, settings, folder))
+    images = {}
+    for k, sensor in enumerate(sensors):
+        # The reference used seeds 1 to spp_total / spp_per_pass; these are far above.
+        mean = mitsuba_cornell.render_sensor(mitsuba, scene, k, sensor, settings,
+                                             10 ** 6 + 1000 * k)[0]
+        images[sensor["name"]] = mean
+    seconds = time.perf_counter() - start
+    samples = spp * sum(int(np.prod(sensor["shape"])) for sensor in sensors)
+    return images, seconds, samples
+
+
 def run_one(args):
     """Child process: one (scene, method) run; prints one JSON line."""
-    import penumbra
-
     family, label, settings = METHODS[args.one]
-    scene_data = penumbra.load_scene(args.scene)
     cornell = args.scene == "cornell"
-    start = time.perf_counter()
-    result, samples = solve(scene_data, family, settings, args.threads, indirect=cornell)
-    seconds = time.perf_counter() - start
-    memory = peak_memory_mb()
-    relative = cornell_errors(result) if cornell else direct_errors(result, args.reference)
+    if family == "path tracing":
+        images, seconds, samples = path_trace(settings["spp"], args.threads)
+        memory = peak_memory_mb()
+        relative = reference_errors(images)
+    else:
+        import penumbra
+
+        scene_data = penumbra.load_scene(args.scene)
+        start = time.perf_counter()
+        result, samples = solve(scene_data, family, settings, args.threads, indirect=cornell)
+        seconds = time.perf_counter() - start
+        memory = peak_memory_mb()
+        relative = cornell_errors(result) if cornell else direct_errors(result, args.reference)
     print(json.dumps({
         "scene": args.scene, "family": family, "method": label, "seconds": seconds,
         "memory_mb": memory, "samples": samples, "points": int(len(relative)),
@@ -223,7 +293,7 @@ def chart(rows, scene, path):
     import matplotlib.pyplot as plt
 
     figure, axes = plt.subplots(figsize=(6, 4.5))
-    for family, marker in (("discontinuity", "o"), ("standard", "s")):
+    for family, marker in (("discontinuity", "o"), ("standard", "s"), ("path tracing", "^")):
         points = sorted((r["seconds"], r["rms"], r["method"]) for r in rows
                         if r["scene"] == scene and r["family"] == family)
         if not points:
@@ -257,6 +327,9 @@ def main():
     parser.add_argument("--points", type=int, default=4000)
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--out", default=".")
+    parser.add_argument("--mitsuba-python", default=MITSUBA_PYTHON,
+                        help="python of the Mitsuba 3 venv (Benchmarks/reference/setup_mitsuba.sh; "
+                             "default %(default)s); the path tracer is left out without it")
     parser.add_argument("--one", type=int, help=argparse.SUPPRESS)
     parser.add_argument("--scene", help=argparse.SUPPRESS)
     parser.add_argument("--reference", help=argparse.SUPPRESS)
@@ -283,8 +356,17 @@ def main():
                 if label not in wanted or (scene == "cornell" and args.methods is None
                                            and label not in CORNELL_METHODS):
                     continue
+                python = sys.executable
+                if family == "path tracing":
+                    if scene not in PATH_TRACED_SCENES:
+                        continue
+                    if not os.access(args.mitsuba_python, os.X_OK):
+                        print("%-9s %-18s left out: no Mitsuba venv at %s"
+                              % (scene, label, args.mitsuba_python), flush=True)
+                        continue
+                    python = args.mitsuba_python
                 child = subprocess.run(
-                    [sys.executable, os.path.abspath(__file__), "--one", str(index),
+                    [python, os.path.abspath(__file__), "--one", str(index),
                      "--scene", scene, "--reference", reference, "--threads", str(args.threads)],
                     stdout=subprocess.PIPE, universal_newlines=True, check=True)
                 row = json.loads(child.stdout.strip().splitlines()[-1])

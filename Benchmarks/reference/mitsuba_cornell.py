@@ -501,7 +501,9 @@ def render_sensor(mi, scene, k, s, args, seed_base):
     return mean, stderr, seeds, seconds, cpu_seconds
 
 
-def main(argv=None):
+def argument_parser():
+    """The command line's parser; `argument_parser().parse_args([...])` gives
+    the settings (defaults included) to other scripts too."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scene", default="cornell", help="Penumbra built-in scene (default cornell)")
@@ -538,6 +540,11 @@ def main(argv=None):
     ap.add_argument("--verbose", action="store_true", help="progress per batch")
     ap.add_argument("--probe", metavar="VARIANT",
                     help="only check that VARIANT renders (exit status 0 if so)")
+    return ap
+
+
+def main(argv=None):
+    ap = argument_parser()
     args = ap.parse_args(argv)
     if args.probe:
         probe(args.probe)

@@ -71,3 +71,44 @@ def test_solved_cornell_box_matches_baseline():
     window.Render()
     Testing.compareImage(window, os.path.join(BASELINE_DIR, "TestSolvedCornellBox.png"),
                          threshold=0.15)
+
+
+def _red_pixels(window):
+    """Number of pixels of the rendered `window` that are clearly red."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+
+    window.Render()
+    grabber = vtkWindowToImageFilter()
+    grabber.SetInput(window)
+    grabber.ReadFrontBufferOff()
+    grabber.Update()
+    rgb = vtk_to_numpy(grabber.GetOutput().GetPointData().GetScalars())[:, :3].astype(int)
+    return int(((rgb[:, 0] > 180) & (rgb[:, 1] < 90) & (rgb[:, 2] < 90)).sum())
+
+
+def test_comparison_window_marks_points_inside_the_view():
+    # The grey floor of the strip scene, direct light: red dots appear where
+    # marks are asked for, only inside view_bounds, and nowhere without marks.
+    import numpy as np
+
+    solution = penumbra.solve("strip", indirect=False)
+    low, high = np.array(solution.GetBounds()[0::2]), np.array(solution.GetBounds()[1::2])
+    floor_y = low[1]
+    corner = low + 0.25 * (high - low)  # a quarter of the floor, from its low corner
+    view = (low[0], corner[0], floor_y, floor_y, low[2], corner[2])
+    inside = [(low[0] + f * (corner[0] - low[0]), floor_y, low[2] + g * (corner[2] - low[2]))
+              for f in (0.3, 0.7) for g in (0.3, 0.7)]
+    outside = [(high[0] - 0.1 * (high[0] - low[0]), floor_y, high[2] - 0.1 * (high[2] - low[2]))]
+
+    def red(marks):
+        window = make_comparison_window([solution], surface_id=0, size=(200, 200),
+                                        marks=marks, mark_size=6, view_bounds=view)
+        count = _red_pixels(window)
+        window.Finalize()
+        return count
+
+    assert red(None) == 0
+    assert red([np.array(outside)]) == 0
+    dots = red([np.array(inside)])
+    assert 4 * 10 <= dots <= 4 * 60, dots  # four dots about 6 pixels across

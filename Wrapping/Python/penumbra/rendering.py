@@ -196,11 +196,20 @@ def extract_surface(data, surface_id):
     return geometry.GetOutput()
 
 
-def make_comparison_window(solutions, surface_id, size=(800, 400), exposure=None, titles=None):
+def make_comparison_window(solutions, surface_id, size=(800, 400), exposure=None, titles=None,
+                           marks=None, mark_size=2.0, mark_color=(1.0, 0.1, 0.1),
+                           view_bounds=None):
     """Off-screen window with surface `surface_id` of each solution side by
     side, seen from the front along its normal, all at one exposure (by
     default the first solution's, see `radiance_to_colors`), each captioned
-    with its entry of `titles` when given."""
+    with its entry of `titles` when given.
+
+    marks: optional, one entry per solution: None or points to mark on that
+    panel as dots (an (n, 3) array, or a vtkPolyData whose points are taken;
+    e.g. the sample points of a method), `mark_size` pixels wide, in
+    `mark_color` (RGB in [0, 1]), drawn just in front of the surface.
+    view_bounds: optional (xmin, xmax, ymin, ymax, zmin, zmax): frame this
+    box of the surface (a close-up) instead of the whole surface."""
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkRenderingCore import vtkRenderer, vtkTextActor
@@ -233,12 +242,17 @@ def make_comparison_window(solutions, surface_id, size=(800, 400), exposure=None
         renderer.AddActor(actor)
         renderer.SetBackground(0.0, 0.0, 0.0)
         view = renderer.GetActiveCamera()
-        center = np.array(surface.GetCenter())
+        bounds = surface.GetBounds() if view_bounds is None else tuple(view_bounds)
+        center = 0.5 * (np.array(bounds[0::2]) + np.array(bounds[1::2]))
         view.SetFocalPoint(*center)
         view.SetPosition(*(center + normal))
         view.SetViewUp(*up)
-        renderer.ResetCamera()
+        renderer.ResetCamera(*bounds)
         view.Zoom(1.3)  # the reset frames the bounding sphere; fill the viewport
+        if marks is not None and marks[k] is not None:
+            dots = _dots(marks[k], normal * 1e-3 * surface.GetLength(), mark_size, mark_color)
+            renderer.AddActor(dots[0])
+            keep += list(dots)
         if titles:
             caption = vtkTextActor()
             caption.SetInput(titles[k])
@@ -250,6 +264,64 @@ def make_comparison_window(solutions, surface_id, size=(800, 400), exposure=None
         keep += [actor, renderer, surface] + list(objects)
     window._penumbra_keep = tuple(keep)
     return window
+
+
+def _dots(points, offset, size, color):
+    """An actor drawing `points` ((n, 3) array or a vtkDataSet's points),
+    moved by `offset`, as round dots `size` pixels wide. Returns (actor,
+    objects to keep alive)."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+
+    if hasattr(points, "GetPoints"):
+        points = vtk_to_numpy(points.GetPoints().GetData()) if points.GetNumberOfPoints() \
+            else np.zeros((0, 3))
+    xyz = np.asarray(points, dtype=float).reshape(-1, 3) + np.asarray(offset, dtype=float)
+    vtk_points = vtkPoints()
+    vtk_points.SetData(numpy_to_vtk(xyz, deep=1))
+    verts = vtkCellArray()
+    for k in range(len(xyz)):
+        verts.InsertNextCell(1)
+        verts.InsertCellPoint(k)
+    data = vtkPolyData()
+    data.SetPoints(vtk_points)
+    data.SetVerts(verts)
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputData(data)
+    mapper.ScalarVisibilityOff()
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    prop = actor.GetProperty()
+    prop.SetColor(*color)
+    prop.SetPointSize(size)
+    prop.RenderPointsAsSpheresOn()
+    prop.LightingOff()
+    return actor, (data, mapper)
+
+
+def save_window_png(window, png_path, size=None):
+    """Render `window` and write it to `png_path`, shrunk to `size` (width,
+    height; default: the window's size) with a resampling filter: render the
+    window at a multiple of `size` for anti-aliasing that Xvfb's OpenGL lacks."""
+    from vtkmodules.vtkImagingCore import vtkImageResize
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+
+    window.Render()
+    grabber = vtkWindowToImageFilter()
+    grabber.SetInput(window)
+    grabber.ReadFrontBufferOff()
+    shrink = vtkImageResize()
+    shrink.SetInputConnection(grabber.GetOutputPort())
+    width, height = size if size is not None else window.GetSize()
+    shrink.SetOutputDimensions(int(width), int(height), 1)
+    writer = vtkPNGWriter()
+    writer.SetFileName(png_path)
+    writer.SetInputConnection(shrink.GetOutputPort())
+    writer.Write()
 
 
 def _point_areas(data):
@@ -272,10 +344,7 @@ def _point_areas(data):
 
 
 def _render_here(vtp_path, png_path, camera, size, exposure):
-    from vtkmodules.vtkImagingCore import vtkImageResize
-    from vtkmodules.vtkIOImage import vtkPNGWriter
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
-    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
 
     reader = vtkXMLPolyDataReader()
     reader.SetFileName(vtp_path)
@@ -287,15 +356,5 @@ def _render_here(vtp_path, png_path, camera, size, exposure):
     # (edges of faces seen at grazing angles would look dotted).
     supersampling = 3
     window = make_render_window(data, camera, [supersampling * n for n in size], exposure)
-    window.Render()
-    grabber = vtkWindowToImageFilter()
-    grabber.SetInput(window)
-    grabber.ReadFrontBufferOff()
-    shrink = vtkImageResize()
-    shrink.SetInputConnection(grabber.GetOutputPort())
-    shrink.SetOutputDimensions(int(size[0]), int(size[1]), 1)
-    writer = vtkPNGWriter()
-    writer.SetFileName(png_path)
-    writer.SetInputConnection(shrink.GetOutputPort())
-    writer.Write()
+    save_window_png(window, png_path, size)
     window.Finalize()
