@@ -167,9 +167,9 @@ def build_parser():
                             "scene's size, in [0.001, 1] (default 0.05)")
     solve.add_argument("--direct-only", action="store_true",
                        help="direct light only (no progressive shooting)")
-    solve.add_argument("--unshot", type=float, default=1e-3, metavar="F",
+    solve.add_argument("--unshot", type=float, default=None, metavar="F",
                        help="stop shooting when the unshot power is below F times the "
-                            "emitted power (default 1e-3)")
+                            "emitted power (default: the solver's, 1e-3)")
     solve.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     solve.set_defaults(handler=_command_solve)
 

@@ -35,11 +35,21 @@ def point_samples(points, surface_id):
     return data
 
 
-def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2, indirect=True,
-                   unshot_fraction=1e-3, exact_power_fraction=1.0):
+def build_pipeline(scene_port, minimum_angle=None, subdivision_level=None, indirect=True,
+                   unshot_fraction=None, exact_power_fraction=None):
     """The filters of the pipeline, connected after `scene_port` (an algorithm
-    output port producing a scene). Returns them in order as a dict."""
+    output port producing a scene), as vtkPenumbraSolver wires them inside
+    (settings left None take its defaults). Returns them in order as a dict,
+    for whoever needs the stages themselves."""
     import penumbra
+
+    defaults = penumbra.vtkPenumbraSolver()
+    minimum_angle = defaults.GetMinimumAngle() if minimum_angle is None else minimum_angle
+    subdivision_level = (defaults.GetSubdivisionLevel() if subdivision_level is None
+                         else subdivision_level)
+    unshot_fraction = defaults.GetUnshotFraction() if unshot_fraction is None else unshot_fraction
+    exact_power_fraction = (defaults.GetExactPowerFraction() if exact_power_fraction is None
+                            else exact_power_fraction)
 
     mesher = penumbra.vtkDiscontinuityMesher()
     mesher.SetInputConnection(scene_port)
@@ -54,9 +64,6 @@ def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2, indirect=
         shooter.SetInputConnection(0, evaluator.GetOutputPort())
         shooter.SetSceneConnection(scene_port)
         shooter.SetUnshotFraction(unshot_fraction)
-        # Secondary shots by the hierarchical ray-cast method: on the Cornell
-        # box it matched the exact method's result to 0.01% of the mean at a
-        # quarter of the time (Benchmarks/compare_cornell.py).
         shooter.SetExactPowerFraction(exact_power_fraction)
         stages["shooter"] = shooter
         last = shooter
@@ -67,7 +74,7 @@ def build_pipeline(scene_port, minimum_angle=0.0, subdivision_level=2, indirect=
     return stages
 
 
-def build_standard(scene_port, unshot_fraction=1e-3, element_size=None, patch_size=None,
+def build_standard(scene_port, unshot_fraction=None, element_size=None, patch_size=None,
                    subdivision_threshold=None, maximum_subdivision_depth=None,
                    shooter_samples=None, form_factor="analytic"):
     """The standard radiosity baseline after `scene_port`, as a one-stage dict
@@ -83,8 +90,8 @@ def build_standard(scene_port, unshot_fraction=1e-3, element_size=None, patch_si
                                      % form_factor)
     solver.SetFormFactorMode(modes[form_factor])
     solver.SetInputConnection(scene_port)
-    solver.SetUnshotFraction(unshot_fraction)
-    for setter, value in ((solver.SetElementSize, element_size),
+    for setter, value in ((solver.SetUnshotFraction, unshot_fraction),
+                          (solver.SetElementSize, element_size),
                           (solver.SetPatchSize, patch_size),
                           (solver.SetSubdivisionThreshold, subdivision_threshold),
                           (solver.SetMaximumSubdivisionDepth, maximum_subdivision_depth),
@@ -94,15 +101,16 @@ def build_standard(scene_port, unshot_fraction=1e-3, element_size=None, patch_si
     return {"standard": solver}
 
 
-def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, indirect=True,
-          unshot_fraction=1e-3, exact_power_fraction=1.0, progress=None,
+def solve(scene, threads=None, minimum_angle=None, subdivision_level=None, indirect=True,
+          unshot_fraction=None, exact_power_fraction=None, progress=None,
           method="discontinuity", **standard_settings):
     """Solve `scene` (a built-in name, a .vtp/.obj path, or a scene vtkPolyData).
 
     threads: worker threads (default: all cores). indirect: run the
     progressive shooter for interreflections (False: direct light only);
     unshot_fraction: stop shooting when the unshot power is below this
-    fraction of the emitted power. progress: a callable
+    fraction of the emitted power. Settings left None keep the defaults of
+    vtkPenumbraSolver (or vtkStandardRadiositySolver). progress: a callable
     progress(stage_name, fraction) called as the solve runs (fraction of
     the whole solve, from 0 to 1). method:
     "discontinuity" (the default, the paper's method) or "standard" (the
@@ -146,11 +154,13 @@ def solve(scene, threads=None, minimum_angle=0.0, subdivision_level=2, indirect=
         # of the defaults for C++, Python and the command line).
         algorithm = penumbra.vtkPenumbraSolver()
         algorithm.SetInputData(scene_data)
-        algorithm.SetMinimumAngle(minimum_angle)
-        algorithm.SetSubdivisionLevel(subdivision_level)
         algorithm.SetIndirect(bool(indirect))
-        algorithm.SetUnshotFraction(unshot_fraction)
-        algorithm.SetExactPowerFraction(exact_power_fraction)
+        for setter, value in ((algorithm.SetMinimumAngle, minimum_angle),
+                              (algorithm.SetSubdivisionLevel, subdivision_level),
+                              (algorithm.SetUnshotFraction, unshot_fraction),
+                              (algorithm.SetExactPowerFraction, exact_power_fraction)):
+            if value is not None:
+                setter(value)
     if progress is not None:
         algorithm.AddObserver(
             vtkCommand.ProgressEvent,
