@@ -709,6 +709,19 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
   std::vector<std::array<double, 4>> scores;
   std::vector<std::array<RGB, 4>> residuals;
   RGB tolerance;
+  // The last pass's residuals become the result's probes.
+  auto keepProbes = [&](int nt) {
+    result.Probes = ErrorProbes();
+    for (int t = 0; t < nt; ++t)
+    {
+      for (int c = firstCandidate; c < 4; ++c)
+      {
+        const double r[3] = { residuals[t][c].R, residuals[t][c].G, residuals[t][c].B };
+        result.Probes.Add(t, r, 3);
+        stats.MaximumResidual = std::max(stats.MaximumResidual, scores[t][c]);
+      }
+    }
+  };
   for (int pass = 0;; ++pass)
   {
     if (pass > 0)
@@ -943,16 +956,7 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
       {
         stats.BudgetReached = current >= settings.MaximumSamples;
       }
-      result.Probes = ErrorProbes();
-      for (int t = 0; t < nt; ++t)
-      {
-        for (int c = firstCandidate; c < 4; ++c)
-        {
-          const double r[3] = { residuals[t][c].R, residuals[t][c].G, residuals[t][c].B };
-          result.Probes.Add(t, r, 3);
-          stats.MaximumResidual = std::max(stats.MaximumResidual, scores[t][c]);
-        }
-      }
+      keepProbes(nt);
       break;
     }
 
@@ -1018,16 +1022,7 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
       // Nothing could be inserted: the residuals of this pass stand.
       stats.Converged = false;
       stats.UnrefinedFailures = failing;
-      result.Probes = ErrorProbes();
-      for (int t = 0; t < nt; ++t)
-      {
-        for (int c = firstCandidate; c < 4; ++c)
-        {
-          const double r[3] = { residuals[t][c].R, residuals[t][c].G, residuals[t][c].B };
-          result.Probes.Add(t, r, 3);
-          stats.MaximumResidual = std::max(stats.MaximumResidual, scores[t][c]);
-        }
-      }
+      keepProbes(nt);
       break;
     }
     ++stats.Passes;

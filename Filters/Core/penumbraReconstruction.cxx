@@ -1993,10 +1993,13 @@ void Reconstruction::Resample(const ResampleOptions& options, ResampledMesh& out
   if (estimate)
   {
     CheckErrorOptions(errorOptions);
-    in.CalibrateWithProbes(probes, errorOptions, probeBounds, modelScale);
     if (errorOptions.PerTriangle)
     {
       this->ComputeTriangleErrorBounds(probes, errorOptions, triangleBounds);
+    }
+    else
+    {
+      in.CalibrateWithProbes(probes, errorOptions, probeBounds, modelScale);
     }
   }
 

@@ -148,6 +148,27 @@ void AddField(vtkFieldData* fieldData, const char* name, const RGB& value)
   AddField(fieldData, name, rgb, 3);
 }
 
+void ForEachCell(vtkPolyData* data, const CellVisitor& visit)
+{
+  vtkCellArray* kinds[4] = { data->GetVerts(), data->GetLines(), data->GetPolys(),
+    data->GetStrips() };
+  vtkIdType cellId = 0;
+  for (int kind = 0; kind < 4; ++kind)
+  {
+    auto it = vtk::TakeSmartPointer(kinds[kind]->NewIterator());
+    vtkIdType count;
+    const vtkIdType* points;
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
+    {
+      it->GetCurrentCell(count, points);
+      if (!visit(cellId, kind, count, points))
+      {
+        return;
+      }
+    }
+  }
+}
+
 ParallelFor SMPParallelFor()
 {
   return [](std::size_t begin, std::size_t end,

@@ -10,6 +10,9 @@
 #include "penumbraProgressiveShooter.h" // for ParallelFor
 #include "penumbraScene.h"
 
+#include "vtkType.h" // for vtkIdType
+
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,6 +48,15 @@ void AddField(vtkFieldData* fieldData, const char* name, const RGB& value);
 
 /// The core's parallel loop run by vtkSMPTools::For (VTK's threads).
 ParallelFor SMPParallelFor();
+
+/// What ForEachCell passes for each cell: its id (verts, lines, polys and
+/// strips numbered in that order, as VTK's cell data is), its kind (0 vertex,
+/// 1 line, 2 polygon, 3 strip) and its point ids. Return false to stop.
+using CellVisitor =
+  std::function<bool(vtkIdType cellId, int kind, vtkIdType count, const vtkIdType* points)>;
+
+/// Visit every cell of `data` in cell-id order (see CellVisitor).
+void ForEachCell(vtkPolyData* data, const CellVisitor& visit);
 
 /// Write a scene as polydata: one polygon per surface, cell arrays
 /// `Reflectance` and `Emission` (double, 3 components).

@@ -4,7 +4,6 @@
 #include "vtkPenumbraSceneConversion.h"
 
 #include "vtkCellArray.h"
-#include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -99,14 +98,12 @@ int vtkProgressiveShooter::RequestData(
       map.emplace(id, k);
       return k;
     };
-    vtkIdType cellId = 0;
-    auto visit = [&](vtkCellArray* cells) {
-      auto it = vtk::TakeSmartPointer(cells->NewIterator());
-      vtkIdType npts;
-      const vtkIdType* pts;
-      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-      {
-        it->GetCurrentCell(npts, pts);
+    penumbra::ForEachCell(samples,
+      [&](vtkIdType cellId, int kind, vtkIdType npts, const vtkIdType* pts) {
+        if (kind != 2)
+        {
+          return true; // only the triangles carry samples to shoot from
+        }
         const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
         if (surface < 0 || surface >= numberOfSurfaces)
         {
@@ -121,10 +118,8 @@ int vtkProgressiveShooter::RequestData(
         }
         bySurface[surface].Triangles.push_back(
           { localId(surface, pts[0]), localId(surface, pts[1]), localId(surface, pts[2]) });
-      }
-    };
-    cellId += samples->GetNumberOfVerts() + samples->GetNumberOfLines();
-    visit(samples->GetPolys());
+        return true;
+      });
 
     shooter.reset(new penumbra::ProgressiveShooter(scene));
     shooter->SetSettings(settings);

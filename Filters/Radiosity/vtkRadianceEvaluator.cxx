@@ -4,7 +4,6 @@
 #include "vtkPenumbraSceneConversion.h"
 
 #include "vtkCellArray.h"
-#include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -54,14 +53,8 @@ std::vector<int> SampleSurfaces(vtkPolyData* samples, int numberOfSurfaces)
   }
   else if (vtkDataArray* cellIds = samples->GetCellData()->GetArray("SurfaceId"))
   {
-    vtkIdType cellId = 0;
-    auto visit = [&](vtkCellArray* cells) {
-      auto it = vtk::TakeSmartPointer(cells->NewIterator());
-      vtkIdType npts;
-      const vtkIdType* pts;
-      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-      {
-        it->GetCurrentCell(npts, pts);
+    penumbra::ForEachCell(
+      samples, [&](vtkIdType cellId, int, vtkIdType npts, const vtkIdType* pts) {
         const int surface = static_cast<int>(cellIds->GetComponent(cellId, 0));
         for (vtkIdType k = 0; k < npts; ++k)
         {
@@ -70,13 +63,8 @@ std::vector<int> SampleSurfaces(vtkPolyData* samples, int numberOfSurfaces)
             surfaceOf[pts[k]] = surface;
           }
         }
-      }
-    };
-    // Cell ids run over verts, lines, polys and strips in that order.
-    visit(samples->GetVerts());
-    visit(samples->GetLines());
-    visit(samples->GetPolys());
-    visit(samples->GetStrips());
+        return true;
+      });
   }
   else
   {
@@ -141,13 +129,11 @@ std::map<int, penumbra::ShooterRadiance> ShooterFunctions(
     std::map<vtkIdType, int> Local;
   };
   std::map<int, Mesh> meshes;
-  vtkIdType cellId = data->GetNumberOfVerts() + data->GetNumberOfLines();
-  auto it = vtk::TakeSmartPointer(data->GetPolys()->NewIterator());
-  vtkIdType npts;
-  const vtkIdType* pts;
-  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-  {
-    it->GetCurrentCell(npts, pts);
+  penumbra::ForEachCell(data, [&](vtkIdType cellId, int kind, vtkIdType npts, const vtkIdType* pts) {
+    if (kind != 2)
+    {
+      return true;
+    }
     const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
     if (npts != 3 || surface < 0 || surface >= numberOfSurfaces)
     {
@@ -173,7 +159,8 @@ std::map<int, penumbra::ShooterRadiance> ShooterFunctions(
       triangle[k] = found->second;
     }
     mesh.Triangles.push_back(triangle);
-  }
+    return true;
+  });
   for (auto& entry : meshes)
   {
     functions.emplace(entry.first,
@@ -250,43 +237,40 @@ bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyD
     ids.emplace(id, k);
     return k;
   };
-  vtkIdType cellId = samples->GetNumberOfVerts();
   std::vector<std::array<vtkIdType, 2>> lines;
   std::vector<vtkIdType> lineCells;
-  {
-    auto it = vtk::TakeSmartPointer(samples->GetLines()->NewIterator());
-    vtkIdType npts;
-    const vtkIdType* pts;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-    {
-      it->GetCurrentCell(npts, pts);
-      for (vtkIdType k = 0; k + 1 < npts; ++k)
+  vtkIdType badCell = -1;
+  penumbra::ForEachCell(
+    samples, [&](vtkIdType cellId, int kind, vtkIdType npts, const vtkIdType* pts) {
+      if (kind == 1)
       {
-        lines.push_back({ pts[k], pts[k + 1] });
-        lineCells.push_back(cellId);
+        for (vtkIdType k = 0; k + 1 < npts; ++k)
+        {
+          lines.push_back({ pts[k], pts[k + 1] });
+          lineCells.push_back(cellId);
+        }
       }
-    }
-  }
-  {
-    auto it = vtk::TakeSmartPointer(samples->GetPolys()->NewIterator());
-    vtkIdType npts;
-    const vtkIdType* pts;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-    {
-      it->GetCurrentCell(npts, pts);
-      if (npts != 3)
+      else if (kind == 2)
       {
-        output->Initialize();
-        vtkErrorWithObjectMacro(self, << "cell " << cellId << " is not a triangle; adaptive sampling needs a "
-                      << "triangle mesh (vtkDiscontinuityMesher's output)");
-        return false;
+        if (npts != 3)
+        {
+          badCell = cellId;
+          return false;
+        }
+        const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
+        const int a = localId(surface, pts[0]), b = localId(surface, pts[1]),
+                  c = localId(surface, pts[2]);
+        meshes[surface].ReceiverId = surface;
+        meshes[surface].Triangles.push_back({ a, b, c });
       }
-      const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
-      const int a = localId(surface, pts[0]), b = localId(surface, pts[1]),
-                c = localId(surface, pts[2]);
-      meshes[surface].ReceiverId = surface;
-      meshes[surface].Triangles.push_back({ a, b, c });
-    }
+      return kind < 3; // strips: nothing to sample
+    });
+  if (badCell >= 0)
+  {
+    output->Initialize();
+    vtkErrorWithObjectMacro(self, << "cell " << badCell << " is not a triangle; adaptive sampling "
+                  << "needs a triangle mesh (vtkDiscontinuityMesher's output)");
+    return false;
   }
   for (std::size_t k = 0; k < lines.size(); ++k)
   {

@@ -4,7 +4,6 @@
 #include "vtkPenumbraSceneConversion.h"
 
 #include "vtkCellArray.h"
-#include "vtkCellArrayIterator.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -194,20 +193,18 @@ int vtkRadianceReconstructor::RequestData(
 
   // Sort the cells by surface. Cell ids run over verts, lines, polys, strips.
   std::map<int, SurfaceCells> surfaces;
-  vtkIdType cellId = 0;
   std::string error;
-  auto visit = [&](vtkCellArray* cells, int kind) {
-    auto it = vtk::TakeSmartPointer(cells->NewIterator());
-    vtkIdType npts;
-    const vtkIdType* pts;
-    for (it->GoToFirstCell(); !it->IsDoneWithTraversal() && error.empty();
-         it->GoToNextCell(), ++cellId)
-    {
-      it->GetCurrentCell(npts, pts);
+  penumbra::ForEachCell(
+    input, [&](vtkIdType cellId, int kind, vtkIdType npts, const vtkIdType* pts) {
+      if (kind == 3)
+      {
+        error = "triangle strips are not supported; triangulate the sample mesh first";
+        return false;
+      }
       SurfaceCells& cells = surfaces[static_cast<int>(surfaceIds->GetComponent(cellId, 0))];
       if (kind == 0)
       {
-        continue; // vertex cells carry nothing to reconstruct
+        return true; // vertex cells carry nothing to reconstruct
       }
       if (kind == 1)
       {
@@ -218,31 +215,23 @@ int vtkRadianceReconstructor::RequestData(
           cells.LineSources.push_back(
             sources ? static_cast<int>(sources->GetComponent(cellId, 0)) : -1);
         }
+        return true;
       }
-      else if (npts != 3)
+      if (npts != 3)
       {
         error = "cell " + std::to_string(cellId) + " is a polygon with " + std::to_string(npts) +
           " points; the sample mesh must be triangles";
+        return false;
       }
-      else
+      cells.Triangles.push_back({ pts[0], pts[1], pts[2] });
+      if (residuals)
       {
-        cells.Triangles.push_back({ pts[0], pts[1], pts[2] });
-        if (residuals)
-        {
-          std::array<double, 3> r;
-          residuals->GetTuple(cellId, r.data());
-          cells.Residuals.push_back(r);
-        }
+        std::array<double, 3> r;
+        residuals->GetTuple(cellId, r.data());
+        cells.Residuals.push_back(r);
       }
-    }
-  };
-  visit(input->GetVerts(), 0);
-  visit(input->GetLines(), 1);
-  visit(input->GetPolys(), 2);
-  if (error.empty() && input->GetNumberOfStrips() > 0)
-  {
-    error = "triangle strips are not supported; triangulate the sample mesh first";
-  }
+      return true;
+    });
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
