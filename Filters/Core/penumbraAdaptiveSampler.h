@@ -178,6 +178,8 @@ struct AdaptiveSamplingStatistics
   int Samples = 0;             ///< point copies (values) of the output mesh
   long long Evaluations = 0;   ///< points passed to the evaluation function
   int Passes = 0;              ///< refinement passes that inserted points
+  int LocalizedPasses = 0;     ///< passes that rebuilt the interpolant only around the
+                               ///< points the previous pass inserted
   int FaceInsertions = 0;      ///< centroids inserted
   int EdgeInsertions = 0;      ///< edge midpoints inserted (constrained or not)
   int ConstrainedSplits = 0;   ///< of which on constrained edges

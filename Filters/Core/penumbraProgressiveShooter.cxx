@@ -111,6 +111,7 @@ struct Leaf
   double Area = 0.0;
   Vec3 Centroid; ///< power-weighted (mean channel), area centroid as a fallback
   double Weight = 0.0; ///< scalar power (mean of RGB)
+  int Surface = -1;    ///< the shooter it is a piece of
 };
 
 /// A node of the hierarchy: an aggregate of a range of leaves, with the
@@ -125,6 +126,19 @@ struct Node
   int Left = -1;  ///< inner node: children (Left, Right); leaf: -1
   int Right = -1;
   int LeafIndex = -1; ///< leaf node: index of its leaf
+  /// Range of Dot(shot normal, y) over the node's triangles: the planes of
+  /// its shooters (one value for a single shooter). A point x with
+  /// Dot(normal, x) at most FrontMin is behind all of them.
+  double FrontMin = 0.0, FrontMax = 0.0;
+  /// The shooter all its leaves belong to, or -1 (a group shot's cluster).
+  int Surface = -1;
+  /// Where visibility rays aim for the node as a whole, and the surface
+  /// there (ignored by the rays, as a single shot ignores its shooter): the
+  /// centroid of a one-shooter node; for a cluster of several shooters,
+  /// whose centroid may lie in the air or inside a box, the centroid of its
+  /// leaf nearest to it (a point that emits).
+  Vec3 Target;
+  int TargetSurface = -1;
 };
 
 /// Deepest split of a near leaf by the fast method (pieces 1/2^NearDepth of the leaf).
@@ -149,8 +163,58 @@ struct ChunkWorkspace
   std::vector<int> Current; ///< nodes whose visibility is tested in this round
   std::vector<int> Next;
   std::vector<Vec3> Targets;
+  std::vector<int> TargetSurfaces; ///< the surface each target lies on (ignored by its ray), or -1
   std::vector<unsigned char> Occluded;
+  std::vector<int> Order; ///< TraceTargets' scratch: targets sorted by surface
+  std::vector<Vec3> SortedTargets;
+  std::vector<unsigned char> SortedOccluded;
 };
+
+/// Trace from `origin` to every target of ws, each ray ignoring the
+/// receiver and its target's surface. Targets of one surface are traced
+/// together (packets need one ignored surface; a group shot interleaves
+/// its members' targets).
+void TraceTargets(const RayCaster& caster, const Vec3& origin, int receiver, ChunkWorkspace& ws)
+{
+  const std::size_t count = ws.Targets.size();
+  ws.Occluded.resize(count);
+  if (std::all_of(ws.TargetSurfaces.begin(), ws.TargetSurfaces.end(),
+        [&](int id) { return id == ws.TargetSurfaces[0]; }))
+  {
+    caster.TraceFrom(origin, ws.Targets.data(), static_cast<int>(count), ws.Occluded.data(),
+      receiver, count ? ws.TargetSurfaces[0] : -1);
+    return;
+  }
+  ws.Order.resize(count);
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    ws.Order[k] = static_cast<int>(k);
+  }
+  std::stable_sort(ws.Order.begin(), ws.Order.end(),
+    [&](int a, int b) { return ws.TargetSurfaces[a] < ws.TargetSurfaces[b]; });
+  ws.SortedTargets.resize(count);
+  ws.SortedOccluded.resize(count);
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    ws.SortedTargets[k] = ws.Targets[ws.Order[k]];
+  }
+  for (std::size_t first = 0; first < count;)
+  {
+    const int surface = ws.TargetSurfaces[ws.Order[first]];
+    std::size_t last = first + 1;
+    while (last < count && ws.TargetSurfaces[ws.Order[last]] == surface)
+    {
+      ++last;
+    }
+    caster.TraceFrom(origin, ws.SortedTargets.data() + first, static_cast<int>(last - first),
+      ws.SortedOccluded.data() + first, receiver, surface);
+    first = last;
+  }
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    ws.Occluded[ws.Order[k]] = ws.SortedOccluded[k];
+  }
+}
 
 /// The four midpoint children of a triangle with per-corner values (linear in between).
 void SplitTriangle(const Vec3 p[3], const RGB v[3], Vec3 cp[4][3], RGB cv[4][3])
@@ -356,10 +420,11 @@ struct ProgressiveShooter::Internal
   /// Everything one shot needs about its shooter, built once per shot.
   struct Shot
   {
-    int Shooter = -1;
+    int Shooter = -1;  ///< the shooter, or -1 for a group shot
+    std::vector<int> Members; ///< the shooting surfaces (one, or a parallel group)
     ShotMethod Method = ShotMethod::Exact;
     Vec3 Normal;   ///< shooter's front normal
-    double Offset = 0.0; ///< shooter's plane: Dot(Normal, p) == Offset
+    double Offset = 0.0; ///< shooter's plane: Dot(Normal, p) == Offset (a group: the lowest)
     bool Empty = true;   ///< no triangle carries unshot radiance
     ShooterRadiance Radiance; ///< exact method: the triangles with unshot radiance
     std::vector<Leaf> Leaves; ///< fast method: the pieces of the shooter
@@ -379,8 +444,11 @@ struct ProgressiveShooter::Internal
   }
 
   void PrepareShot(int j, ShotMethod method, Shot& shot) const;
+  void PrepareGroupShot(const std::vector<int>& members, Shot& shot) const;
+  void AddLeaves(int j, const Vec3& origin, std::vector<Leaf>& leaves) const;
   int BuildNode(const std::vector<Leaf>& leaves, std::vector<int>& order, int first, int count,
-    const Vec3& origin, std::vector<Node>& nodes) const;
+    const Vec3& origin, const Vec3& normal, std::vector<Node>& nodes) const;
+  ShotRecord ShootSurfaces(const std::vector<int>& members, ShotMethod method, double reference);
   RGB Evaluate(const Shot& shot, const Vec3& x, const Vec3& origin, const Vec3& n, int receiver,
     const std::vector<int>* candidates, const RayCaster* caster, ChunkWorkspace& ws,
     long long& rays) const;
@@ -411,6 +479,7 @@ void ProgressiveShooter::Internal::PrepareShot(int j, ShotMethod method, Shot& s
   const PreparedPolygon& poly = this->Occluders().GetPolygon(j);
   const SurfaceSamples& s = this->Samples[j];
   shot.Shooter = j;
+  shot.Members.assign(1, j);
   shot.Method = method;
   shot.Normal = poly.Normal;
   shot.Offset = poly.Offset;
@@ -474,17 +543,101 @@ void ProgressiveShooter::Internal::PrepareShot(int j, ShotMethod method, Shot& s
     const RGB v[3] = { s.Unshot[tri[0]], s.Unshot[tri[1]], s.Unshot[tri[2]] };
     SplitToLeaves(p, v, size, poly.Centroid, 0, leaves);
   }
+  for (Leaf& leaf : leaves)
+  {
+    leaf.Surface = j;
+  }
   std::vector<int> order(leaves.size());
   for (std::size_t k = 0; k < order.size(); ++k)
   {
     order[k] = static_cast<int>(k);
   }
   shot.Nodes.reserve(2 * leaves.size());
-  this->BuildNode(leaves, order, 0, static_cast<int>(leaves.size()), poly.Centroid, shot.Nodes);
+  this->BuildNode(
+    leaves, order, 0, static_cast<int>(leaves.size()), poly.Centroid, poly.Normal, shot.Nodes);
+}
+
+/// The fast method's leaves of surface j (its triangles with unshot
+/// radiance, projected onto its plane, split to LeafSize), moments about
+/// `origin`.
+void ProgressiveShooter::Internal::AddLeaves(int j, const Vec3& origin, std::vector<Leaf>& leaves) const
+{
+  const PreparedPolygon& poly = this->Occluders().GetPolygon(j);
+  const SurfaceSamples& s = this->Samples[j];
+  const double size = this->Settings.LeafSize * poly.Diameter;
+  for (std::size_t t = 0; t < s.Triangles.size(); ++t)
+  {
+    const std::array<int, 3>& tri = s.Triangles[t];
+    if ((s.Unshot[tri[0]].IsZero() && s.Unshot[tri[1]].IsZero() && s.Unshot[tri[2]].IsZero()) ||
+      !(this->Areas[j][t] > 2e-12 * poly.Diameter * poly.Diameter))
+    {
+      continue;
+    }
+    Vec3 p[3];
+    RGB v[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      p[k] = s.Points[tri[k]] - poly.Normal * (Dot(poly.Normal, s.Points[tri[k]]) - poly.Offset);
+      v[k] = s.Unshot[tri[k]];
+    }
+    const std::size_t first = leaves.size();
+    SplitToLeaves(p, v, size, origin, 0, leaves);
+    for (std::size_t k = first; k < leaves.size(); ++k)
+    {
+      leaves[k].Surface = j;
+    }
+  }
+}
+
+/// A fast shot of several surfaces with the same front normal at once (see
+/// ProgressiveShooterSettings::GroupWeakShots): one hierarchy over all
+/// their leaves, so that a far cluster of them costs one expansion and one
+/// ray. Surfaces with the same normal never light each other.
+void ProgressiveShooter::Internal::PrepareGroupShot(const std::vector<int>& members, Shot& shot) const
+{
+  shot.OpeningAngle = this->Settings.OpeningAngle;
+  shot.Shooter = -1;
+  shot.Members = members;
+  shot.Method = ShotMethod::Fast;
+  shot.Normal = this->Occluders().GetPolygon(members[0]).Normal;
+  shot.Offset = HUGE_VAL;
+  shot.Empty = true;
+  shot.Nodes.clear();
+  shot.Leaves.clear();
+  Vec3 lo(HUGE_VAL, HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+  for (int j : members)
+  {
+    const PreparedPolygon& poly = this->Occluders().GetPolygon(j);
+    shot.Offset = std::min(shot.Offset, Dot(shot.Normal, poly.Centroid));
+    const Vec3& c = poly.Centroid;
+    lo = { std::min(lo.X, c.X), std::min(lo.Y, c.Y), std::min(lo.Z, c.Z) };
+    hi = { std::max(hi.X, c.X), std::max(hi.Y, c.Y), std::max(hi.Z, c.Z) };
+  }
+  // Moments about the middle of the group keep the subtractions in
+  // Aggregate well conditioned.
+  const Vec3 origin = (lo + hi) * 0.5;
+  for (int j : members)
+  {
+    this->AddLeaves(j, origin, shot.Leaves);
+  }
+  if (shot.Leaves.empty())
+  {
+    return;
+  }
+  shot.Empty = false;
+  std::vector<int> order(shot.Leaves.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+  {
+    order[k] = static_cast<int>(k);
+  }
+  shot.Nodes.reserve(2 * shot.Leaves.size());
+  this->BuildNode(shot.Leaves, order, 0, static_cast<int>(shot.Leaves.size()), origin,
+    shot.Normal, shot.Nodes);
 }
 
 int ProgressiveShooter::Internal::BuildNode(const std::vector<Leaf>& leaves,
-  std::vector<int>& order, int first, int count, const Vec3& origin, std::vector<Node>& nodes) const
+  std::vector<int>& order, int first, int count, const Vec3& origin, const Vec3& normal,
+  std::vector<Node>& nodes) const
 {
   const int id = static_cast<int>(nodes.size());
   nodes.emplace_back();
@@ -499,6 +652,26 @@ int ProgressiveShooter::Internal::BuildNode(const std::vector<Leaf>& leaves,
     hi = { std::max(hi.X, c.X), std::max(hi.Y, c.Y), std::max(hi.Z, c.Z) };
   }
   Node node = Aggregate(range.data(), count, origin);
+  node.FrontMin = HUGE_VAL;
+  node.FrontMax = -HUGE_VAL;
+  node.Surface = range[0]->Surface;
+  const Leaf* nearest = range[0];
+  for (const Leaf* leaf : range)
+  {
+    node.Surface = leaf->Surface == node.Surface ? node.Surface : -1;
+    if (SquaredLength(leaf->Centroid - node.Centroid) <
+      SquaredLength(nearest->Centroid - node.Centroid))
+    {
+      nearest = leaf;
+    }
+    for (const Vec3& p : leaf->Points)
+    {
+      node.FrontMin = std::min(node.FrontMin, Dot(normal, p));
+      node.FrontMax = std::max(node.FrontMax, Dot(normal, p));
+    }
+  }
+  node.Target = node.Surface >= 0 ? node.Centroid : nearest->Centroid;
+  node.TargetSurface = nearest->Surface;
   if (count > 1)
   {
     // Median split of the leaf centroids along the longest axis (ties by
@@ -513,8 +686,8 @@ int ProgressiveShooter::Internal::BuildNode(const std::vector<Leaf>& leaves,
         const double cb = leaves[b].Centroid[axis];
         return ca < cb || (ca == cb && a < b);
       });
-    node.Left = this->BuildNode(leaves, order, first, half, origin, nodes);
-    node.Right = this->BuildNode(leaves, order, first + half, count - half, origin, nodes);
+    node.Left = this->BuildNode(leaves, order, first, half, origin, normal, nodes);
+    node.Right = this->BuildNode(leaves, order, first + half, count - half, origin, normal, nodes);
   }
   else
   {
@@ -550,6 +723,7 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
   }
   // Fast method. 1. Cut the hierarchy where nodes look small from x.
   const double theta = shot.OpeningAngle;
+  const double front = Dot(shot.Normal, x);
   ws.Current.clear();
   ws.Stack.clear();
   ws.Stack.push_back(0);
@@ -558,8 +732,13 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
     const int id = ws.Stack.back();
     ws.Stack.pop_back();
     const Node& node = shot.Nodes[id];
+    if (!(front > node.FrontMin))
+    {
+      continue; // behind every shooter plane of the node (a group shot)
+    }
     const Vec3 d = node.Centroid - x;
-    if (node.Left >= 0 && node.Radius * node.Radius >= theta * theta * SquaredLength(d))
+    if (node.Left >= 0 &&
+      (node.Radius * node.Radius >= theta * theta * SquaredLength(d) || !(front > node.FrontMax)))
     {
       // Right first so that the left child is handled first (a fixed order).
       ws.Stack.push_back(node.Right);
@@ -581,6 +760,7 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
   while (!ws.Current.empty())
   {
     ws.Targets.clear();
+    ws.TargetSurfaces.clear();
     for (const int id : ws.Current)
     {
       const Node& node = shot.Nodes[id];
@@ -588,21 +768,23 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
       {
         if (!isNear(node))
         {
-          ws.Targets.push_back(node.Centroid);
+          ws.Targets.push_back(node.Target);
+          ws.TargetSurfaces.push_back(node.TargetSurface);
         }
       }
       else
       {
-        ws.Targets.push_back(shot.Nodes[node.Left].Centroid);
-        ws.Targets.push_back(shot.Nodes[node.Right].Centroid);
+        for (const int child : { node.Left, node.Right })
+        {
+          ws.Targets.push_back(shot.Nodes[child].Target);
+          ws.TargetSurfaces.push_back(shot.Nodes[child].TargetSurface);
+        }
       }
     }
     const int count = static_cast<int>(ws.Targets.size());
-    ws.Occluded.resize(ws.Targets.size());
     if (count > 0)
     {
-      caster->TraceFrom(
-        origin, ws.Targets.data(), count, ws.Occluded.data(), receiver, shot.Shooter);
+      TraceTargets(*caster, origin, receiver, ws);
       rays += count;
     }
     ws.Next.clear();
@@ -664,12 +846,17 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
   // shooter's plane, a contact) the visibility then follows the geometry
   // instead of one ray per leaf deciding for all.
   ws.Targets.clear();
+  ws.TargetSurfaces.clear();
   ws.Weights.clear();
   const double originShift = Length(origin - x);
   const double offset = Dot(n, x);
   for (const int index : ws.Near)
   {
     const Leaf& leaf = shot.Leaves[index];
+    if (!(front > Dot(shot.Normal, leaf.Points[0])))
+    {
+      continue; // behind this leaf's shooter (a group shot)
+    }
     ws.Pieces.clear();
     ws.Pieces.push_back({ { leaf.Points[0], leaf.Points[1], leaf.Points[2] },
       { leaf.Values[0], leaf.Values[1], leaf.Values[2] }, 0 });
@@ -710,6 +897,7 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
         {
           ws.Targets.push_back(node.Centroid);
           ws.Weights.push_back(e);
+          ws.TargetSurfaces.push_back(leaf.Surface);
         }
         continue;
       }
@@ -730,14 +918,14 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
         }
         ws.Targets.push_back(target / static_cast<double>(count));
         ws.Weights.push_back(e);
+        ws.TargetSurfaces.push_back(leaf.Surface);
       }
     }
   }
   if (!ws.Targets.empty())
   {
     const int count = static_cast<int>(ws.Targets.size());
-    ws.Occluded.resize(ws.Targets.size());
-    caster->TraceFrom(origin, ws.Targets.data(), count, ws.Occluded.data(), receiver, shot.Shooter);
+    TraceTargets(*caster, origin, receiver, ws);
     rays += count;
     for (int k = 0; k < count; ++k)
     {
@@ -1180,17 +1368,41 @@ ShotRecord ProgressiveShooter::Shoot(int shooterId, ShotMethod method)
       " out of range [0, " + std::to_string(this->GetNumberOfSurfaces()) + ")");
   }
   I.EnsureEnergy();
+  return I.ShootSurfaces({ shooterId }, method, this->GetReferencePower());
+}
+
+ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
+  const std::vector<int>& members, ShotMethod method, double reference)
+{
+  Internal& I = *this;
+  const int numberOfSurfaces = static_cast<int>(I.Samples.size());
+  const bool group = members.size() > 1;
+  const int shooterId = members[0];
   const auto start = std::chrono::steady_clock::now();
   ShotRecord record;
   record.Shooter = shooterId;
   record.Method = method;
-  SurfaceSamples& shooter = I.Samples[shooterId];
-  record.Power = I.UnshotPower[shooterId];
-  if (!shooter.Triangles.empty())
+  record.GroupSize = static_cast<int>(members.size());
+  std::vector<char> isMember(I.Samples.size(), 0);
+  bool anyTriangles = false;
+  for (int j : members)
+  {
+    record.Power += I.UnshotPower[j];
+    isMember[j] = 1;
+    anyTriangles = anyTriangles || !I.Samples[j].Triangles.empty();
+  }
+  if (anyTriangles)
   {
     Internal::Shot shot;
-    I.PrepareShot(shooterId, method, shot);
-    const double coarse = I.Settings.CoarseShotFraction * this->GetReferencePower();
+    if (group)
+    {
+      I.PrepareGroupShot(members, shot);
+    }
+    else
+    {
+      I.PrepareShot(shooterId, method, shot);
+    }
+    const double coarse = I.Settings.CoarseShotFraction * reference;
     if (record.Power.Mean() > 0.0 && record.Power.Mean() < coarse)
     {
       shot.OpeningAngle *= std::min(2.0, std::sqrt(coarse / record.Power.Mean()));
@@ -1209,13 +1421,36 @@ ShotRecord ProgressiveShooter::Shoot(int shooterId, ShotMethod method)
     if (!shot.Empty)
     {
       std::vector<int> candidates;
-      for (int i = 0; i < this->GetNumberOfSurfaces(); ++i)
+      for (int i = 0; i < numberOfSurfaces; ++i)
       {
-        if (i == shooterId || I.Samples[i].Points.empty())
+        if (isMember[i] || I.Samples[i].Points.empty())
         {
           continue;
         }
-        if (!I.Exact.ShaftCandidates(shooterId, i, candidates))
+        if (group)
+        {
+          // Some sample in front of the lowest shooter plane, and some
+          // shooter vertex in front of the receiver's plane.
+          const PreparedPolygon& receiver = I.Occluders().GetPolygon(i);
+          bool front = false, facing = false;
+          for (const Vec3& p : I.Samples[i].Points)
+          {
+            front = front || Dot(shot.Normal, p) > shot.Offset;
+          }
+          for (std::size_t k = 0; k < shot.Leaves.size() && !facing; ++k)
+          {
+            for (const Vec3& y : shot.Leaves[k].Points)
+            {
+              facing = facing || Dot(receiver.Normal, y) > receiver.Offset;
+            }
+          }
+          if (!front || !facing)
+          {
+            continue;
+          }
+          candidates.clear();
+        }
+        else if (!I.Exact.ShaftCandidates(shooterId, i, candidates))
         {
           continue;
         }
@@ -1288,13 +1523,21 @@ ShotRecord ProgressiveShooter::Shoot(int shooterId, ShotMethod method)
     {
       record.Rays += count;
     }
-    std::fill(shooter.Unshot.begin(), shooter.Unshot.end(), RGB());
-    I.UnshotPower[shooterId] = RGB();
+    for (int j : members)
+    {
+      std::fill(I.Samples[j].Unshot.begin(), I.Samples[j].Unshot.end(), RGB());
+      I.UnshotPower[j] = RGB();
+    }
   }
   record.Escaped = Difference(record.Power, record.Incident);
   I.Energy.ShotAbsorbed += record.Absorbed;
   I.Energy.ShotEscaped += record.Escaped;
-  I.Energy.Unshot = this->GetTotalUnshotPower();
+  RGB unshot;
+  for (const RGB& p : I.UnshotPower)
+  {
+    unshot += p;
+  }
+  I.Energy.Unshot = unshot;
   record.UnshotAfter = I.Energy.Unshot.Mean();
   record.Seconds = Seconds(start);
   return record;
@@ -1349,7 +1592,22 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
       break;
     }
     const ShotMethod method = this->ChooseMethod(I.UnshotPower[j].Mean());
-    ShotRecord record = this->Shoot(j, method);
+    std::vector<int> members(1, j);
+    if (method == ShotMethod::Fast && I.Settings.GroupWeakShots)
+    {
+      const Vec3& normal = I.Occluders().GetPolygon(j).Normal;
+      for (int k = 0; k < this->GetNumberOfSurfaces(); ++k)
+      {
+        const double power = I.UnshotPower[k].Mean();
+        if (k != j && power > 0.0 && !I.Samples[k].Triangles.empty() &&
+          this->ChooseMethod(power) == ShotMethod::Fast &&
+          Dot(I.Occluders().GetPolygon(k).Normal, normal) > 1.0 - 1e-12)
+        {
+          members.push_back(k);
+        }
+      }
+    }
+    ShotRecord record = I.ShootSurfaces(members, method, this->GetReferencePower());
     ++summary.Shots;
     if (method == ShotMethod::Exact)
     {

@@ -807,7 +807,8 @@ void Reconstruction::Internals::FitGradients()
     // Gradient: quadratic fit on ring 1, ring 2 when ring 1 is small; the
     // same factor gives the cubic error model when the stencil is large enough.
     this->GatherNeighbours(s, this->Options.MinimumFitPoints, 2, w);
-    const bool cubicHere = static_cast<int>(w.Points.size()) >= CubicModelPoints;
+    const bool wantModel = this->Options.ErrorModel || this->Options.CubicGradients;
+    const bool cubicHere = wantModel && static_cast<int>(w.Points.size()) >= CubicModelPoints;
     this->FactorFit(v, cubicHere ? 9 : 5, w);
     double* fit = this->SectorFit.data() + static_cast<std::size_t>(s) * 5 * nc;
     if (w.Usable >= 5)
@@ -832,7 +833,11 @@ void Reconstruction::Internals::FitGradients()
     // Error model: a cubic fit (on rings 2-3 when ring 2 is too small), or
     // the quadratic when the stencil cannot determine a cubic.
     double* model = this->SectorModel.data() + static_cast<std::size_t>(s) * 9 * nc;
-    if (!cubicHere)
+    if (!cubicHere && !wantModel)
+    {
+      w.Usable = 0;
+    }
+    else if (!cubicHere)
     {
       this->GatherNeighbours(s, CubicModelPoints, 3, w);
       if (static_cast<int>(w.Points.size()) >= CubicModelPoints)

@@ -81,6 +81,7 @@ int vtkPenumbraSolver::RequestData(
   evaluator->SetInputConnection(0, mesher->GetOutputPort());
   evaluator->SetSceneData(scene);
   evaluator->SetSamplingTolerance(this->SamplingTolerance);
+  evaluator->SetMaximumSamples(this->MaximumSamples);
   vtkNew<vtkProgressiveShooter> shooter;
   shooter->SetInputConnection(0, evaluator->GetOutputPort());
   shooter->SetSceneData(scene);
@@ -149,6 +150,7 @@ void vtkPenumbraSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "UnshotFraction: " << this->UnshotFraction << "\n";
   os << indent << "ExactPowerFraction: " << this->ExactPowerFraction << "\n";
   os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
+  os << indent << "MaximumSamples: " << this->MaximumSamples << "\n";
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
   os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
 }

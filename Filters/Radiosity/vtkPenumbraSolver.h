@@ -81,6 +81,16 @@ public:
 
   ///@{
   /**
+   * Adaptive sampling budget of the whole scene, shared among surfaces by
+   * area (vtkRadianceEvaluator::MaximumSamples). Default 4000000, range
+   * [0, 2000000000]; 0 = no scene budget.
+   */
+  vtkSetClampMacro(MaximumSamples, vtkIdType, 0, 2000000000);
+  vtkGetMacro(MaximumSamples, vtkIdType);
+  ///@}
+
+  ///@{
+  /**
    * Quality refinement of the discontinuity meshes: smallest angle in
    * degrees (vtkDiscontinuityMesher::MinimumAngle). Default 0 (none), range
    * [0, 20.6] (the mesher's limit).
@@ -109,6 +119,7 @@ protected:
   double UnshotFraction = 1e-3;
   double ExactPowerFraction = 1.0;
   double SamplingTolerance = 0.002;
+  vtkIdType MaximumSamples = 4000000;
   double MinimumAngle = 0.0;
   int SubdivisionLevel = 2;
 

@@ -63,6 +63,7 @@ int vtkProgressiveShooter::RequestData(
   settings.ExactPowerFraction = this->ExactPowerFraction;
   settings.OpeningAngle = this->OpeningAngle;
   settings.CoarseShotFraction = this->CoarseShotFraction;
+  settings.GroupWeakShots = this->GroupWeakShots;
 
   // Per surface: its samples in local numbering; global ids to write back.
   std::unordered_map<int, penumbra::SurfaceSamples> bySurface;
@@ -186,4 +187,5 @@ void vtkProgressiveShooter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ExactPowerFraction: " << this->ExactPowerFraction << "\n";
   os << indent << "OpeningAngle: " << this->OpeningAngle << "\n";
   os << indent << "CoarseShotFraction: " << this->CoarseShotFraction << "\n";
+  os << indent << "GroupWeakShots: " << (this->GroupWeakShots ? "On" : "Off") << "\n";
 }

@@ -27,11 +27,14 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <map>
 #include <memory>
 #include <sstream>
+#include <string>
+#include <thread>
 #include <unordered_map>
 
 vtkStandardNewMacro(vtkRadianceEvaluator);
@@ -317,35 +320,110 @@ bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyD
   std::vector<int> lineSurface, lineOrder, lineSource, polySurface;
   std::vector<std::array<double, 3>> polyResidual;
   long long evaluations = 0;
-  std::size_t done = 0;
+
+  // Receivers are sampled in parallel, largest initial mesh first (the
+  // sampler's passes run on one thread per receiver; each receiver's batch
+  // evaluations run in parallel too, nested). Results are assembled in
+  // surface order afterwards, so the output does not depend on scheduling.
+  std::vector<const std::pair<const int, penumbra::ReceiverMesh>*> work;
   for (const auto& entry : meshes)
   {
-    if (self->GetAbortExecute())
+    work.push_back(&entry);
+  }
+  std::vector<std::size_t> order(work.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+  {
+    order[k] = k;
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return work[a]->second.Triangles.size() > work[b]->second.Triangles.size();
+  });
+  // Each surface's share of the scene budget, by area.
+  std::vector<int> budgets(work.size(), settings.MaximumSamples);
+  if (self->GetMaximumSamples() > 0)
+  {
+    std::vector<double> areas(work.size(), 0.0);
+    double totalArea = 0.0;
+    for (std::size_t w = 0; w < work.size(); ++w)
+    {
+      const penumbra::ReceiverMesh& mesh = work[w]->second;
+      for (const auto& t : mesh.Triangles)
+      {
+        areas[w] += 0.5 *
+          penumbra::Length(penumbra::Cross(mesh.Points[t[1]] - mesh.Points[t[0]],
+            mesh.Points[t[2]] - mesh.Points[t[0]]));
+      }
+      totalArea += areas[w];
+    }
+    // At least an equal share: a sliver or a tiny part has next to no area
+    // but may still need its samples (so the total is at most twice the
+    // budget).
+    const double budget = static_cast<double>(self->GetMaximumSamples());
+    const double equalShare = budget / static_cast<double>(std::max<std::size_t>(1, work.size()));
+    for (std::size_t w = 0; w < work.size() && totalArea > 0.0; ++w)
+    {
+      const double share = std::max(equalShare, budget * areas[w] / totalArea);
+      budgets[w] = static_cast<int>(std::max(3.0, std::min<double>(share, budgets[w])));
+    }
+  }
+  std::vector<penumbra::AdaptiveSamplingResult> results(work.size());
+  std::vector<std::string> errors(work.size());
+  std::atomic<std::size_t> finished(0);
+  const std::thread::id mainThread = std::this_thread::get_id();
+  vtkSMPTools::For(0, static_cast<vtkIdType>(order.size()), 1, [&](vtkIdType first, vtkIdType last) {
+    for (vtkIdType k = first; k < last; ++k)
+    {
+      if (self->GetAbortExecute())
+      {
+        return;
+      }
+      const std::size_t w = order[k];
+      const int surface = work[w]->first;
+      try
+      {
+        const penumbra::RadianceBatchFunction evaluate =
+          [&](const penumbra::Vec3* x, int count, penumbra::RGB* values) {
+            vtkSMPTools::For(0, count, [&](vtkIdType a, vtkIdType b) {
+              for (vtkIdType i = a; i < b; ++i)
+              {
+                values[i] = evaluatePoint(surface, x[i]);
+              }
+            });
+          };
+        penumbra::AdaptiveSamplingSettings receiverSettings = settings;
+        receiverSettings.MaximumSamples = budgets[w];
+        results[w] = penumbra::SampleReceiver(work[w]->second, evaluate, receiverSettings);
+      }
+      catch (const penumbra::InputError& e)
+      {
+        errors[w] = e.what();
+      }
+      const std::size_t done = ++finished;
+      // Observers (Python ones included) are only called from the calling thread.
+      if (std::this_thread::get_id() == mainThread)
+      {
+        self->UpdateProgress(static_cast<double>(done) / work.size());
+      }
+    }
+  });
+  if (self->GetAbortExecute())
+  {
+    output->Initialize();
+    return true;
+  }
+  for (std::size_t w = 0; w < work.size(); ++w)
+  {
+    if (!errors[w].empty())
     {
       output->Initialize();
-      return true;
-    }
-    const int surface = entry.first;
-    penumbra::AdaptiveSamplingResult result;
-    try
-    {
-      const penumbra::RadianceBatchFunction evaluate =
-        [&](const penumbra::Vec3* x, int count, penumbra::RGB* values) {
-          vtkSMPTools::For(0, count, [&](vtkIdType first, vtkIdType last) {
-            for (vtkIdType k = first; k < last; ++k)
-            {
-              values[k] = evaluatePoint(surface, x[k]);
-            }
-          });
-        };
-      result = penumbra::SampleReceiver(entry.second, evaluate, settings);
-    }
-    catch (const penumbra::InputError& e)
-    {
-      output->Initialize();
-      vtkErrorWithObjectMacro(self, << "surface " << surface << ": " << e.what());
+      vtkErrorWithObjectMacro(self, << "surface " << work[w]->first << ": " << errors[w]);
       return false;
     }
+  }
+  for (std::size_t w = 0; w < work.size(); ++w)
+  {
+    const int surface = work[w]->first;
+    penumbra::AdaptiveSamplingResult result = std::move(results[w]);
     evaluations += result.Statistics.Evaluations;
     const vtkIdType offset = points->GetNumberOfPoints();
     for (std::size_t p = 0; p < result.Mesh.Points.size(); ++p)
@@ -381,7 +459,6 @@ bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyD
       lineOrder.push_back(segment.Order);
       lineSource.push_back(segment.SourceId);
     }
-    self->UpdateProgress(static_cast<double>(++done) / meshes.size());
   }
 
   output->Initialize();
@@ -590,6 +667,7 @@ void vtkRadianceEvaluator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AdaptiveSampling: " << (this->AdaptiveSampling ? "On" : "Off") << "\n";
   os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
   os << indent << "MaximumSamplesPerSurface: " << this->MaximumSamplesPerSurface << "\n";
+  os << indent << "MaximumSamples: " << this->MaximumSamples << "\n";
   os << indent << "MaximumSampleSpacing: " << this->MaximumSampleSpacing << "\n";
   os << indent << "MinimumFeatureSize: " << this->MinimumFeatureSize << "\n";
   os << indent << "IncludeEmission: " << (this->IncludeEmission ? "On" : "Off") << "\n";

@@ -125,6 +125,24 @@ public:
 
   ///@{
   /**
+   * Adaptive sampling budget of the whole scene (samples), shared among the
+   * surfaces in proportion to their area: a surface of area a gets at most
+   * max(MaximumSamples * a / (total sampled area), MaximumSamples / (number
+   * of surfaces)) samples (the second so that slivers and small parts keep
+   * what they need; at most MaximumSamplesPerSurface; the initial mesh is
+   * always kept whole), so the total stays below twice the budget. It
+   * bounds time and memory on scenes of many thousands of polygons, where
+   * SamplingTolerance alone asks for thousands of samples per polygon; small
+   * scenes never reach it (the Cornell box uses 2% of it). Where it binds,
+   * the largest residuals are refined first. Default 4000000, range
+   * [0, 2000000000]; 0 = no scene budget.
+   */
+  vtkSetClampMacro(MaximumSamples, vtkIdType, 0, 2000000000);
+  vtkGetMacro(MaximumSamples, vtkIdType);
+  ///@}
+
+  ///@{
+  /**
    * Longest sample-triangle edge after adaptive sampling, as a fraction of
    * the scene's bounding-box diagonal: longer edges are split whatever the
    * shooters' radiance does there, so that light arriving later by
@@ -196,6 +214,7 @@ protected:
   bool AdaptiveSampling = true;
   double SamplingTolerance = 0.002;
   int MaximumSamplesPerSurface = 200000;
+  vtkIdType MaximumSamples = 4000000;
   double MaximumSampleSpacing = 1.0 / 32.0;
   double MinimumFeatureSize = 1e-4;
   std::vector<vtkIdType> ShooterIds;

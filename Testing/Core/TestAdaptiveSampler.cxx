@@ -478,6 +478,49 @@ void TestBumpConvergence()
 }
 
 //------------------------------------------------------------------------------
+// Late passes rebuild the interpolant only around the points just inserted
+// and keep the other triangles' residuals: every final probe must equal the
+// residual against an interpolant built on the whole final mesh.
+void TestLocalizedPassesMatchWholeRebuild()
+{
+  const ReceiverMesh mesh = StripMesh({ 0.3, 0.75 }, { 1, 2 }, 2);
+  auto field = [](const Vec3& p) {
+    const double dx = p.X - 0.55, dy = p.Y - 0.45;
+    return 0.5 + std::exp(-(dx * dx + dy * dy) / 0.01) + 0.3 * std::sin(9.0 * p.X * p.Y);
+  };
+  AdaptiveSamplingSettings settings;
+  settings.RelativeTolerance = 1e-4;
+  const AdaptiveSamplingResult r = SampleReceiver(mesh, Batch(field), settings);
+  PENUMBRA_EXPECT(r.Statistics.LocalizedPasses > 0);
+  Reconstruction whole;
+  ReconstructionOptions options = settings.Interpolant;
+  whole.Build(r.Samples, options);
+  static const double bary[3][3] = { { 0.5, 0.5, 0.0 }, { 0.0, 0.5, 0.5 }, { 0.5, 0.0, 0.5 } };
+  std::vector<int> seen(r.Mesh.Triangles.size(), 0);
+  double worst = 0.0, largest = 0.0;
+  for (std::size_t q = 0; q < r.Probes.Triangles.size(); ++q)
+  {
+    const int t = r.Probes.Triangles[q];
+    const int k = seen[t]++; // probes of a triangle come in edge order
+    const auto& tri = r.Mesh.Triangles[t];
+    const Vec3 mid = 0.5 * (r.Mesh.Points[tri[k]] + r.Mesh.Points[tri[(k + 1) % 3]]);
+    if (std::min({ mid.X, mid.Y, 1.0 - mid.X, 1.0 - mid.Y }) < 1e-6)
+    {
+      continue; // outline midpoints are evaluated SideOffset inside
+    }
+    double value[3];
+    whole.Evaluate(t, bary[k], value);
+    const double residual = field(mid) - value[0];
+    worst = std::max(worst, std::abs(residual - r.Probes.Residuals[3 * q]));
+    largest = std::max(largest, std::abs(residual));
+  }
+  std::printf("localized passes: %d of %d, %d samples, largest probe residual %.3e, largest "
+              "difference from a whole rebuild %.3e\n",
+    r.Statistics.LocalizedPasses, r.Statistics.Passes, r.Statistics.Samples, largest, worst);
+  PENUMBRA_EXPECT(worst <= 1e-12 + 1e-9 * largest);
+}
+
+//------------------------------------------------------------------------------
 // Budget, passes and determinism (independent of the order in which the
 // evaluation function computes its batch).
 void TestBudgetAndDeterminism()
@@ -888,6 +931,7 @@ void TestBadInput()
 
 int main()
 {
+  TestLocalizedPassesMatchWholeRebuild();
   TestLinear();
   TestMaximumEdgeLength();
   TestStep();

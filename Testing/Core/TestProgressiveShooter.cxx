@@ -511,10 +511,11 @@ struct CornellRun
 };
 
 CornellRun RunCornell(const Scene& scene, int n, double exactFraction, double unshotFraction,
-  int maximumShots, const penumbra::ParallelFor& loop)
+  int maximumShots, const penumbra::ParallelFor& loop, bool groupWeakShots = true)
 {
   ProgressiveShooter shooter(scene);
   ProgressiveShooterSettings settings;
+  settings.GroupWeakShots = groupWeakShots;
   settings.UnshotFraction = unshotFraction;
   settings.MaximumShots = maximumShots;
   settings.ExactPowerFraction = exactFraction;
@@ -618,6 +619,23 @@ void TestCornellExactVersusFast()
   const double mixedRms = row("0.05 (default)", mixed);
   const CornellRun fast = RunCornell(scene, n, std::numeric_limits<double>::infinity(), 1e-3, 10000, TwoThreads);
   const double fastRms = row("inf (all fast)", fast);
+  // Weak shots one surface at a time: grouping the parallel ones (the
+  // floor with the block tops, ...) must not change the answer beyond the
+  // fast method's own error, and saves shots.
+  const CornellRun single = RunCornell(
+    scene, n, std::numeric_limits<double>::infinity(), 1e-3, 10000, TwoThreads, false);
+  const double singleRms = row("inf, GroupWeakShots off", single);
+  int groupedShots = 0, largestGroup = 1;
+  for (const penumbra::ShotRecord& r : fast.Summary.History)
+  {
+    groupedShots += r.GroupSize > 1;
+    largestGroup = std::max(largestGroup, r.GroupSize);
+  }
+  std::printf("   all fast: %d of %d shots grouped (up to %d surfaces), %d shots without grouping\n",
+    groupedShots, fast.Summary.Shots, largestGroup, single.Summary.Shots);
+  PENUMBRA_EXPECT(groupedShots > 0 && largestGroup > 1);
+  PENUMBRA_EXPECT(fast.Summary.Shots < single.Summary.Shots);
+  PENUMBRA_EXPECT(singleRms <= 0.02);
   std::printf("   (differences relative to the mean indirect radiance of the reference)\n");
   const penumbra::ShootingEnergy& e = exact.Summary.Energy;
   std::printf("   energy of the exact run (W, mean RGB): emitted %.6f absorbed %.6f unshot %.3e "
