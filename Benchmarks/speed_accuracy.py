@@ -5,17 +5,19 @@
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Benchmarks/speed_accuracy.py \\
         [--scenes strip,occluder,seven,blind,cornell] [--methods LABELS|all] [--points 4000]
         [--threads 2] [--out DIR] [--mitsuba-python build/_deps/mitsuba-venv/bin/python]
+        [--replot DIR/speed_accuracy.csv]
 
 For each scene and each method it runs one solve in a fresh process (so
 that the peak memory is that run's) and measures the wall time of the
 solve, the peak resident memory of the process (VTK and Python included,
-about 100 MB of it), the number of radiance samples (discontinuity
-meshing: evaluations; standard radiosity: vertices) and the error of the
-displayed floor radiance (linear over the output triangles, as the data
-contract defines it) against exact values at independent random points of
-the floor (vtkRadianceEvaluator, exact method, at the points themselves):
-RMS, 99th percentile and maximum of |error| relative to the mean exact
-radiance (first channel; these scenes' lights are grey).
+about 65 MB of it; Mitsuba's python about 145 MB), the number of samples
+(discontinuity meshing: radiance evaluations; standard radiosity:
+vertices; path tracer: light samples or camera samples) and the error of
+the displayed floor radiance (linear over the output triangles, as the
+data contract defines it) against exact values at independent random
+points of the floor (vtkRadianceEvaluator, exact method, at the points
+themselves): RMS, 99th percentile and maximum of |error| relative to the
+mean exact radiance (first channel; these scenes' lights are grey).
 
 In these scenes the floor's radiance is exactly the direct light: the
 lights do not reflect, and the occluders face up, away from the floor.
@@ -23,24 +25,70 @@ The Cornell box is solved with its interreflections and measured against
 the Mitsuba 3 reference of compare_cornell.py (floor and back wall pixels,
 all channels), with fewer methods (CORNELL_METHODS).
 
-Methods: discontinuity meshing with exact evaluation and cubic
-reconstruction, with linear reconstruction (and with ray-cast evaluation
-on request, see DEFAULT_METHODS); standard radiosity at five mesh
-densities, with a finer subdivision threshold, without subdivision, with
-smaller shooting patches, and with Wallace et al.'s disc form factors as
-published; on the Cornell box also the Mitsuba 3 path tracer at 16 to
-16,384 samples per pixel, rendering the reference's own sensors (floor
-and back wall, 1 cm pixels; Benchmarks/reference/mitsuba_cornell.py's
-scene and settings, other seeds) in the Mitsuba venv's python
-(--mitsuba-python; left out when there is none). Its time covers loading
-the scene, compiling the kernels and rendering; its samples are camera
-samples (pixels x spp); its error is that of its pixels against the
-reference's, which has 0.17% noise of its own. The paper's Figs. 5 and 6
-are Benchmarks/paper_figures.py.
+Method families (one curve each on the charts):
 
-Writes DIR/speed_accuracy.md, DIR/speed_accuracy.csv and one log-log chart
-of RMS error against time per scene, DIR/speed_accuracy_SCENE.png
-(DIR defaults to the current folder).
+- discontinuity meshing, exact evaluation + cubic reconstruction, at
+  sampling tolerances 0.05, 0.02, 0.008, 0.002 (the default) and 0.0005
+  (vtkRadianceEvaluator's SamplingTolerance), and at 0.05 with samples
+  up to 1/8 of the scene's diagonal apart (d=1/8; MaximumSampleSpacing,
+  default 1/32); on the Cornell box at 0.02 and 0.002 and at four coarser
+  settings aimed at 1% RMS (tolerance 0.05, longer sample spacing d,
+  shooting stopped at a larger unshot fraction u, weak shots coarser c:
+  see METHODS). Without a spacing limit (d=0: not run by default, ask for
+  "exact + cubic d=0" and the like with --methods) the sampling stops
+  sooner but is less accurate for its time at every tolerance tried
+  (measured: seven occluders 0.12% RMS in 1.3 s against 0.052% in 1.0 s
+  with the limit; at tolerance 0.05 the blind's floor is 2.6% off in
+  0.22 s, above the path tracer's curve there);
+- the same with linear reconstruction, at tolerances 0.02 and 0.002;
+- the same with ray-cast evaluation (cubic reconstruction), at ray-cast
+  tolerances 0.01 and 0.001, direct-light scenes only. Ray casting's
+  visibility estimate is stepwise, so in penumbrae the adaptive sampling
+  may never meet its tolerance and runs to its sample budget (at the
+  default tolerance and budget it took 318 s and 868,000 samples on
+  "occluder"): these runs use tolerance 0.02 and at most 20,000 samples
+  per surface, which keeps them to 2 to 10 s; at ray-cast tolerance 0.01
+  the noisier estimate keeps the sampling refining (up to 3.3 times the
+  samples of 0.001) and it ends less accurate;
+- standard radiosity at five mesh densities, with a finer subdivision
+  threshold, without subdivision, with smaller shooting patches, and with
+  Wallace et al.'s disc form factors as published;
+- the Mitsuba 3 path tracer, in the Mitsuba venv's python
+  (--mitsuba-python; left out when there is none). On the direct-light
+  scenes, at 1 to 16,384 samples per point: the scene (the penumbra
+  scene's polygons as triangles, diffuse Reflectance, one-sided area
+  lights of radiance Emission) is loaded and the floor's radiance is
+  estimated at the very points of the error measure with Mitsuba's own
+  light sampling and shadow rays (next_event): the next-event estimate a
+  path tracer makes at its first bounce, at 4,000 points only, without
+  camera rays or further bounces -- the best case for it. Its mean
+  converges to the exact values (measured: RMS falls by 4 for 16 times
+  the samples, down to 0.2% at 16,384, where its mean over the floor is
+  within 0.03% of the exact one). On the
+  Cornell box, at 16 to 4,096 samples per pixel, it renders the
+  reference's own sensors (floor and back wall, 1 cm pixels;
+  Benchmarks/reference/mitsuba_cornell.py's scene and settings, other
+  seeds); its error is that of its pixels against the reference's, which
+  has 0.17% noise of its own. Its time covers loading the scene, compiling
+  the kernels (Dr.Jit caches them on disk, so after a first run this is
+  mostly a cache load: 0.01 to 0.04 s at 1 to 16 samples) and sampling,
+  not importing Mitsuba (as the other methods' times do not cover
+  importing VTK).
+
+After the runs it prints the claims of issue 7 computed from the measured
+rows (claims): on each direct-light scene, at each exact + cubic run's
+time, the RMS of the standard and path-tracer curves (their lower
+envelopes, interpolated log-log, only where their runs cover that time)
+and the ratio to the run's, and the smallest ratio over the overlap; on
+the Cornell box, the time each family takes to reach 1% RMS
+(interpolated log-log) and the ratios. The paper's Figs. 5 and 6 are
+Benchmarks/paper_figures.py.
+
+Writes DIR/speed_accuracy.md (the table, then the claims),
+DIR/speed_accuracy.csv and one log-log chart of RMS error against time
+per scene, DIR/speed_accuracy_SCENE.png, each family's runs marked and
+its lower envelope drawn (DIR defaults to the current folder). --replot
+redoes these from a CSV without running anything.
 """
 import argparse
 import csv
@@ -60,10 +108,57 @@ CORNELL_REFERENCE = os.path.join(HERE, "reference", "cornell_reference.npz")
 # Standard radiosity: the visibility sampling of the light (s x s rays per
 # patch triangle) must be refined with the mesh, or finer meshes only show
 # the s^2 steps of the penumbrae more sharply.
-METHODS = (
-    ("discontinuity", "exact + cubic", {}),
-    ("discontinuity", "ray cast + cubic", {"evaluation": "ray_cast"}),
-    ("discontinuity", "exact + linear", {"reconstruction": "linear"}),
+CUBIC = "discontinuity (exact + cubic)"
+LINEAR = "discontinuity (exact + linear)"
+RAY_CAST = "discontinuity (ray cast + cubic)"
+# Discontinuity meshing's sampling tolerance (vtkRadianceEvaluator's
+# SamplingTolerance, relative to each surface's mean radiance; default 0.002):
+# the knob that trades its accuracy for time.
+CUBIC_TOLERANCES = (0.05, 0.02, 0.008, 0.002, 0.0005)
+LINEAR_TOLERANCES = (0.02, 0.002)
+
+
+def tolerance_label(base, tolerance):
+    return base if tolerance == 0.002 else "%s tol=%g" % (base, tolerance)
+
+
+METHODS = tuple(
+    (CUBIC, tolerance_label("exact + cubic", t), {"tolerance": t}) for t in CUBIC_TOLERANCES
+) + tuple(
+    (LINEAR, tolerance_label("exact + linear", t), {"tolerance": t, "reconstruction": "linear"})
+    for t in LINEAR_TOLERANCES
+) + (
+    # Ray-cast evaluation, bounded (see the module docstring): a looser sampling
+    # tolerance and a budget of 20,000 samples per surface.
+    (RAY_CAST, "ray cast + cubic tol=0.02 rt=0.01",
+     {"evaluation": "ray_cast", "ray_cast_tolerance": 0.01, "tolerance": 0.02,
+      "max_samples": 20000}),
+    (RAY_CAST, "ray cast + cubic tol=0.02 rt=0.001",
+     {"evaluation": "ray_cast", "ray_cast_tolerance": 0.001, "tolerance": 0.02,
+      "max_samples": 20000}),
+    # Direct light: the fastest setting, samples 8 times as far apart as
+    # vtkRadianceEvaluator's MaximumSampleSpacing allows by default (1/32 of
+    # the scene's diagonal). With no spacing limit at all (d=0, not run by
+    # default) the adaptive sampling stops sooner but is less accurate for its
+    # time at every tolerance (measured: see the module docstring).
+    (CUBIC, "exact + cubic tol=0.05 d=1/8", {"tolerance": 0.05, "spacing": 1.0 / 8}),
+    (CUBIC, "exact + cubic tol=0.05 d=0", {"tolerance": 0.05, "spacing": 0.0}),
+    (CUBIC, "exact + cubic tol=0.02 d=0", {"tolerance": 0.02, "spacing": 0.0}),
+    (CUBIC, "exact + cubic d=0", {"tolerance": 0.002, "spacing": 0.0}),
+    # Cornell box: coarser settings aimed at 1% RMS: a looser sampling
+    # tolerance, a longer sample spacing (d, vtkRadianceEvaluator's
+    # MaximumSampleSpacing, default 1/32), shooting stopped at a larger
+    # unshot fraction (u, vtkProgressiveShooter's UnshotFraction, default
+    # 0.001) and weak shots computed coarser (c, its CoarseShotFraction,
+    # default 0.003).
+    (CUBIC, "exact + cubic tol=0.05 d=1/8 u=0.001 c=0.03",
+     {"tolerance": 0.05, "spacing": 1.0 / 8, "unshot": 0.001, "coarse": 0.03}),
+    (CUBIC, "exact + cubic tol=0.05 d=1/16 u=0.001 c=0.03",
+     {"tolerance": 0.05, "spacing": 1.0 / 16, "unshot": 0.001, "coarse": 0.03}),
+    (CUBIC, "exact + cubic tol=0.05 d=1/24 u=0.002 c=0.03",
+     {"tolerance": 0.05, "spacing": 1.0 / 24, "unshot": 0.002, "coarse": 0.03}),
+    (CUBIC, "exact + cubic tol=0.05 u=0.002 c=0.03",
+     {"tolerance": 0.05, "unshot": 0.002, "coarse": 0.03}),
     ("standard", "standard h=0.1 s=2", {"element_size": 0.1, "shooter_samples": 2}),
     ("standard", "standard h=0.05 s=4", {"element_size": 0.05, "shooter_samples": 4}),
     ("standard", "standard h=0.025 s=8", {"element_size": 0.025, "shooter_samples": 8}),
@@ -80,19 +175,26 @@ METHODS = (
     ("standard", "standard disc h=0.025 s=8",
      {"element_size": 0.025, "shooter_samples": 8, "form_factor": "disc"}),
 ) + tuple(("path tracing", "Mitsuba %d spp" % spp, {"spp": spp})
-          for spp in (16, 64, 256, 1024, 4096, 16384))
-# The path tracer renders the Cornell box only (the reference's sensors).
-PATH_TRACED_SCENES = ("cornell",)
-# Ray-cast evaluation is left out unless asked for (--methods all): with the
-# adaptive sampling it took 318 s and 868,000 samples on "occluder" (exact:
-# 0.65 s, 3,344 samples); the sampling does not settle on its estimates.
-DEFAULT_METHODS = [label for _, label, _ in METHODS if label != "ray cast + cubic"]
+          for spp in (1, 4, 16, 64, 256, 1024, 4096, 16384))
+FAMILIES = (CUBIC, LINEAR, RAY_CAST, "standard", "path tracing")
+CORNELL_ONLY = [label for _, label, settings in METHODS
+                if {"unshot", "coarse"} & set(settings)]
+ON_REQUEST = ["exact + cubic tol=0.05 d=0", "exact + cubic tol=0.02 d=0", "exact + cubic d=0"]
+# Path tracer sample counts: on the direct-light scenes (the next-event
+# estimate at the floor points, see next_event) and on the Cornell box (the
+# reference's sensors rendered by the path tracer).
+DIRECT_SPP = (1, 4, 16, 64, 256, 1024, 4096, 16384)
+CORNELL_SPP = (16, 64, 256, 1024, 4096)
+DEFAULT_METHODS = [label for family, label, settings in METHODS
+                   if label not in CORNELL_ONLY + ON_REQUEST
+                   and (family != "path tracing" or settings["spp"] in DIRECT_SPP)]
 # The Cornell box (with interreflections) costs far more per sample: the
-# finer standard meshes would take minutes each.
-CORNELL_METHODS = ["exact + cubic", "exact + linear", "standard h=0.1 s=2",
-                   "standard h=0.05 s=4", "standard h=0.05 s=4 t=0.1",
-                   "standard h=0.05 s=4 p=0.2"] + [
-    label for family, label, _ in METHODS if family == "path tracing"]
+# finer standard meshes, the tightest tolerance and ray casting would take
+# minutes each.
+CORNELL_METHODS = ["exact + cubic tol=0.02", "exact + cubic",
+                   "exact + linear"] + CORNELL_ONLY + [
+    "standard h=0.1 s=2", "standard h=0.05 s=4", "standard h=0.05 s=4 t=0.1",
+    "standard h=0.05 s=4 p=0.2"] + ["Mitsuba %d spp" % spp for spp in CORNELL_SPP]
 # The Mitsuba venv made by Benchmarks/reference/setup_mitsuba.sh.
 MITSUBA_PYTHON = os.path.join(os.path.dirname(HERE), "build", "_deps", "mitsuba-venv", "bin",
                               "python")
@@ -164,13 +266,24 @@ def solve(scene_data, family, settings, threads, indirect):
         return result, int(result.GetFieldData().GetArray("Vertices").GetValue(0))
     source = vtkTrivialProducer()
     source.SetOutput(scene_data)
-    stages = build_pipeline(source.GetOutputPort(), indirect=indirect)
+    stages = build_pipeline(source.GetOutputPort(), indirect=indirect,
+                            unshot_fraction=settings.get("unshot"))
+    evaluator = stages["evaluator"]
     if settings.get("evaluation") == "ray_cast":
-        stages["evaluator"].SetMethod(penumbra.vtkRadianceEvaluator.RAY_CAST)
+        evaluator.SetMethod(penumbra.vtkRadianceEvaluator.RAY_CAST)
+        evaluator.SetRayCastTolerance(settings.get("ray_cast_tolerance",
+                                                   evaluator.GetRayCastTolerance()))
+    for key, setter in (("tolerance", evaluator.SetSamplingTolerance),
+                        ("max_samples", evaluator.SetMaximumSamplesPerSurface),
+                        ("spacing", evaluator.SetMaximumSampleSpacing)):
+        if key in settings:
+            setter(settings[key])
+    if "coarse" in settings and indirect:
+        stages["shooter"].SetCoarseShotFraction(settings["coarse"])
     if settings.get("reconstruction") == "linear":
         stages["reconstructor"].SetModeToLinear()
     result = penumbra.run_filter(stages["reconstructor"])
-    evaluations = stages["evaluator"].GetOutput().GetFieldData().GetArray("Evaluations")
+    evaluations = evaluator.GetOutput().GetFieldData().GetArray("Evaluations")
     return result, int(evaluations.GetValue(0)) if evaluations is not None else -1
 
 
@@ -220,6 +333,25 @@ def reference_errors(images):
     return np.concatenate(relative)
 
 
+def load_mitsuba_scene(polygons, reflectance, emission, sensors, settings, threads):
+    """Mitsuba 3 (the reference's variant, `threads` threads) loads the scene
+    of mitsuba_cornell.build_scene_dict with `sensors`. Returns (the mitsuba
+    and drjit modules, the scene, the perf_counter time before loading)."""
+    import mitsuba_cornell
+
+    mitsuba_cornell.configure_llvm()
+    import drjit
+    import mitsuba
+
+    mitsuba.set_variant(str(np.load(CORNELL_REFERENCE, allow_pickle=True)["variant"]))
+    drjit.set_thread_count(threads)
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="penumbra-mitsuba-") as folder:
+        scene = mitsuba.load_dict(mitsuba_cornell.build_scene_dict(
+            mitsuba, polygons, reflectance, emission, sensors, settings, folder))
+    return mitsuba, drjit, scene, start
+
+
 def path_trace(spp, threads):
     """Mitsuba 3 renders the reference's sensors (mitsuba_cornell.py's scene,
     sensors and settings) at `spp` samples per pixel, with seeds the
@@ -241,16 +373,8 @@ def path_trace(spp, threads):
     for sensor in sensors:
         if not np.array_equal(sensor["mask"], reference[sensor["name"] + "_mask"]):
             raise RuntimeError("%s: the sensor differs from the reference's" % sensor["name"])
-    mitsuba_cornell.configure_llvm()
-    import drjit
-    import mitsuba
-
-    mitsuba.set_variant(str(reference["variant"]))
-    drjit.set_thread_count(threads)
-    start = time.perf_counter()
-    with tempfile.TemporaryDirectory(prefix="penumbra-mitsuba-") as folder:
-        scene = mitsuba.load_dict(mitsuba_cornell.build_scene_dict(
-            mitsuba, polygons, reflectance, emission, sensors, settings, folder))
+    mitsuba, _, scene, start = load_mitsuba_scene(polygons, reflectance, emission, sensors,
+                                                  settings, threads)
     images = {}
     for k, sensor in enumerate(sensors):
         # The reference used seeds 1 to spp_total / spp_per_pass; these are far above.
@@ -262,14 +386,65 @@ def path_trace(spp, threads):
     return images, seconds, samples
 
 
+def next_event(scene_name, points, spp, threads, seed=10 ** 6):
+    """Mitsuba 3's estimate of the floor's direct radiance at `points`: the
+    scene (triangles fanned from the penumbra scene's polygons, diffuse
+    Reflectance, one-sided area lights of radiance Emission, built by
+    mitsuba_cornell.build_scene_dict as for the Cornell box) is loaded and,
+    at every point (a SurfaceInteraction3f with the floor's normal), `spp`
+    light samples are
+    drawn by the scene's own emitter sampling with a shadow ray each
+    (scene.sample_emitter_direction, test_visibility=True): radiance =
+    reflectance / pi * mean(weight * cos), the next-event estimate a path
+    tracer makes at its first bounce, vectorised over points x spp with
+    Dr.Jit (at most 2^20 lanes a pass). Runs in the Mitsuba venv's python.
+    Returns (radiance at the points (first channel), seconds: scene loading,
+    kernel compilation or cache loading and sampling, shadow rays)."""
+    sys.path.insert(0, os.path.join(HERE, "reference"))
+    import mitsuba_cornell
+
+    settings = mitsuba_cornell.argument_parser().parse_args([])
+    polygons, reflectance, emission = mitsuba_cornell.load_penumbra_polygons(
+        scene_name, settings.penumbra_pythonpath)
+    normal = [float(x) for x in mitsuba_cornell.polygon_normal(polygons[FLOOR])]
+    # The Cornell reference's kind of scene, without sensors (its integrator is not used).
+    mitsuba, drjit, scene, start = load_mitsuba_scene(polygons, reflectance, emission, [],
+                                                      settings, threads)
+    sampler = mitsuba.load_dict({"type": "independent"})
+    count = len(points)
+    per_pass = max(1, min(spp, (1 << 20) // count))
+    total = np.zeros(count)
+    done = 0
+    while done < spp:
+        passes = min(per_pass, spp - done)
+        lanes = np.tile(points, (passes, 1))  # lane = sample * count + point
+        interaction = drjit.zeros(mitsuba.SurfaceInteraction3f, passes * count)
+        interaction.p = mitsuba.Point3f(lanes[:, 0], lanes[:, 1], lanes[:, 2])
+        interaction.n = mitsuba.Normal3f(*normal)
+        interaction.sh_frame = mitsuba.Frame3f(interaction.n)
+        sampler.seed(seed + done, passes * count)
+        direction, weight = scene.sample_emitter_direction(interaction, sampler.next_2d(), True)
+        cosine = drjit.maximum(drjit.dot(direction.d, interaction.n), 0.0)
+        total += np.array(weight.x * cosine).reshape(passes, count).sum(axis=0)
+        done += passes
+    radiance = reflectance[FLOOR, 0] / np.pi * total / spp
+    return radiance, time.perf_counter() - start, spp * count
+
+
 def run_one(args):
     """Child process: one (scene, method) run; prints one JSON line."""
     family, label, settings = METHODS[args.one]
     cornell = args.scene == "cornell"
-    if family == "path tracing":
+    if family == "path tracing" and cornell:
         images, seconds, samples = path_trace(settings["spp"], args.threads)
         memory = peak_memory_mb()
         relative = reference_errors(images)
+    elif family == "path tracing":
+        reference = np.load(args.reference)
+        radiance, seconds, samples = next_event(args.scene, reference["points"],
+                                                settings["spp"], args.threads)
+        memory = peak_memory_mb()
+        relative = np.abs(radiance - reference["exact"]) / reference["exact"].mean()
     else:
         import penumbra
 
@@ -287,24 +462,50 @@ def run_one(args):
     return 0
 
 
+MARKERS = {CUBIC: "o", LINEAR: "D", RAY_CAST: "v", "standard": "s", "path tracing": "^"}
+COLORS = {family: "C%d" % k for k, family in enumerate(FAMILIES)}  # the same on every chart
+
+
+def front(rows, scene, family):
+    """The family's runs on `scene` as (seconds, rms, label), sorted by time,
+    and its curve: the lower envelope (the runs no faster run beats), held
+    level to the time of its slowest run (by then the family has reached
+    that error)."""
+    points = sorted((r["seconds"], r["rms"], r["method"]) for r in rows
+                    if r["scene"] == scene and r["family"] == family)
+    curve = [p for k, p in enumerate(points) if all(q[1] > p[1] for q in points[:k])]
+    if curve and points[-1][0] > curve[-1][0]:
+        curve.append((points[-1][0], curve[-1][1], points[-1][2]))
+    return points, curve
+
+
+def short_label(label):
+    for prefix in ("Mitsuba ", "standard ", "exact + cubic", "exact + linear",
+                   "ray cast + cubic"):
+        if label.startswith(prefix):
+            return label[len(prefix):].strip() or "default"
+    return label
+
+
 def chart(rows, scene, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    figure, axes = plt.subplots(figsize=(6, 4.5))
-    for family, marker in (("discontinuity", "o"), ("standard", "s"), ("path tracing", "^")):
-        points = sorted((r["seconds"], r["rms"], r["method"]) for r in rows
-                        if r["scene"] == scene and r["family"] == family)
+    figure, axes = plt.subplots(figsize=(7, 5))
+    for family in FAMILIES:
+        points, curve = front(rows, scene, family)
         if not points:
             continue
-        # The family's curve is its lower envelope: the runs no faster run beats.
-        front = [p for k, p in enumerate(points) if all(q[1] > p[1] for q in points[:k])]
-        line, = axes.plot([p[0] for p in front], [p[1] for p in front], label=family)
-        axes.scatter([p[0] for p in points], [p[1] for p in points], marker=marker,
-                     color=line.get_color())
+        line, = axes.plot([p[0] for p in curve], [p[1] for p in curve], label=family,
+                          color=COLORS[family])
+        axes.scatter([p[0] for p in points], [p[1] for p in points], marker=MARKERS[family],
+                     color=line.get_color(), s=14)
         for x, y, label in points:
-            axes.annotate(label, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+            axes.annotate(short_label(label), (x, y), fontsize=5, xytext=(3, 3),
+                          textcoords="offset points", color=line.get_color())
+    if scene == "cornell":
+        axes.axhline(0.01, color="grey", linestyle=":", linewidth=0.8)
     axes.set_xscale("log")
     axes.set_yscale("log")
     axes.set_xlabel("wall time (s, %s)" % "2 threads")
@@ -312,10 +513,138 @@ def chart(rows, scene, path):
                                                 if scene == "cornell" else "floor"))
     axes.set_title("%s: error against time" % scene)
     axes.grid(True, which="both", alpha=0.3)
-    axes.legend()
+    axes.legend(fontsize=7)
     figure.tight_layout()
     figure.savefig(path, dpi=120)
     plt.close(figure)
+
+
+def interpolate(curve, seconds):
+    """RMS of a family's curve at `seconds`, linear in log-log between its
+    runs; None where the curve does not cover that time."""
+    if not curve or not curve[0][0] <= seconds <= curve[-1][0]:
+        return None
+    for (t0, e0, _), (t1, e1, _) in zip(curve, curve[1:]):
+        if t0 <= seconds <= t1:
+            if t1 == t0:
+                return min(e0, e1)
+            w = np.log(seconds / t0) / np.log(t1 / t0)
+            return float(np.exp((1 - w) * np.log(e0) + w * np.log(e1)))
+    return curve[0][1]
+
+
+def time_to(curve, target):
+    """(seconds, exact) when a family's curve first reaches `target` RMS,
+    interpolated log-log between its runs; exact is False when its fastest
+    run is already below (the time is then an upper bound); None if never."""
+    for k, (t1, e1, _) in enumerate(curve):
+        if e1 <= target:
+            if k == 0:
+                return t1, False
+            t0, e0 = curve[k - 1][:2]
+            w = np.log(target / e0) / np.log(e1 / e0)
+            return float(np.exp((1 - w) * np.log(t0) + w * np.log(t1))), True
+    return None
+
+
+def claims(rows):
+    """Issue 7's goals checked on the measured rows; returns Markdown lines.
+    Direct-light scenes: at each exact + cubic run's time, the standard and
+    path-tracer curves' RMS (interpolated, only where they cover that time)
+    and their ratio to the run's; the smallest ratio over the overlap (goal:
+    above 1 everywhere, at least 10 against standard radiosity and 100
+    against the path tracer). Cornell box: the time each family takes to
+    reach 1% RMS (goal: discontinuity meshing 10 times faster than either)."""
+    lines = []
+    others = ("standard", "path tracing")
+    scenes = [s for s in SCENES if any(r["scene"] == s for r in rows)]
+    direct = [s for s in scenes if s != "cornell"]
+    if direct:
+        lines += ["| scene | exact + cubic run | time (s) | RMS | standard RMS then | ratio "
+                  "| path tracer RMS then | ratio |",
+                  "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+        summary = []
+        for scene in direct:
+            runs = front(rows, scene, CUBIC)[0]
+            curves = {f: front(rows, scene, f)[1] for f in others}
+            worst = {f: None for f in others}
+            for seconds, rms, label in runs:
+                cells = []
+                for family in others:
+                    theirs = interpolate(curves[family], seconds)
+                    if theirs is None:
+                        cells += ["-", "-"]
+                        continue
+                    ratio = theirs / rms
+                    worst[family] = ratio if worst[family] is None else min(worst[family], ratio)
+                    cells += ["%.3g%%" % (100 * theirs), "%.3g" % ratio]
+                lines.append("| %s | %s | %.2f | %.3g%% | %s |" % (
+                    scene, label, seconds, 100 * rms, " | ".join(cells)))
+            summary.append((scene, worst))
+        lines += ["", "| scene | smallest ratio to standard (goal >= 10) "
+                  "| smallest ratio to path tracer (goal >= 100) | below both everywhere |",
+                  "| --- | --- | --- | --- |"]
+        for scene, worst in summary:
+            values = [worst[f] for f in others]
+            lines.append("| %s | %s | %s | %s |" % (
+                scene, *("%.3g" % v if v is not None else "no overlap" for v in values),
+                "no overlap" if all(v is None for v in values)
+                else "yes" if all(v is None or v > 1 for v in values) else "no"))
+    if "cornell" in scenes:
+        times = {}
+        lines += ["", "| Cornell box family | time to 1% RMS (s) | best run |",
+                  "| --- | --- | --- |"]
+        for family in FAMILIES:
+            points, curve = front(rows, "cornell", family)
+            if not points:
+                continue
+            reached = time_to(curve, 0.01)
+            times[family] = reached
+            best = min(points, key=lambda p: p[1])
+            lines.append("| %s | %s | %s: %.3g%% at %.1f s |" % (
+                family, "not reached" if reached is None else
+                ("%.1f" if reached[1] else "<= %.1f") % reached[0],
+                best[2], 100 * best[1], best[0]))
+        ours = times.get(CUBIC)
+        if ours is not None:
+            lines.append("")
+            for family in others:
+                if family not in times:
+                    continue
+                theirs = times[family]
+                if theirs is None:
+                    longest = max(p[0] for p in front(rows, "cornell", family)[0])
+                    lines.append("- %s does not reach 1%% RMS in its longest run (%.1f s): "
+                                 "exact + cubic is at least %.1f times faster (goal: 10)"
+                                 % (family, longest, longest / ours[0]))
+                else:
+                    lines.append("- exact + cubic reaches 1%% RMS %s%.1f times faster than %s "
+                                 "(goal: 10)" % ("" if ours[1] else "at least ",
+                                                 theirs[0] / ours[0], family))
+    return lines
+
+
+FIELDS = ["scene", "family", "method", "seconds", "memory_mb", "samples", "points", "rms",
+          "p99", "max"]
+
+
+def write_outputs(rows, out):
+    """The CSV, the Markdown table with the claims below it, the claims on
+    standard output."""
+    with open(os.path.join(out, "speed_accuracy.csv"), "w", newline="") as stream:
+        writer = csv.DictWriter(stream, fieldnames=FIELDS)
+        writer.writeheader()
+        writer.writerows(rows)
+    lines = claims(rows)
+    print("\n".join(["", "Claims (issue 7):", ""] + lines))
+    with open(os.path.join(out, "speed_accuracy.md"), "w") as stream:
+        stream.write("| scene | method | time (s) | peak memory (MB) | samples | RMS | p99 | max |\n")
+        stream.write("| --- | --- | --- | --- | --- | --- | --- | --- |\n")
+        for r in rows:
+            stream.write("| %s | %s | %.2f | %.0f | %d | %.3g%% | %.3g%% | %.3g%% |\n"
+                         % (r["scene"], r["method"], r["seconds"], r["memory_mb"], r["samples"],
+                            100 * r["rms"], 100 * r["p99"], 100 * r["max"]))
+        stream.write("\n## Claims\n\n%s\n" % "\n".join(lines))
 
 
 def main():
@@ -330,19 +659,30 @@ def main():
     parser.add_argument("--mitsuba-python", default=MITSUBA_PYTHON,
                         help="python of the Mitsuba 3 venv (Benchmarks/reference/setup_mitsuba.sh; "
                              "default %(default)s); the path tracer is left out without it")
+    parser.add_argument("--replot", metavar="CSV",
+                        help="no runs: redo the charts, tables and claims from a CSV "
+                             "this script wrote")
     parser.add_argument("--one", type=int, help=argparse.SUPPRESS)
     parser.add_argument("--scene", help=argparse.SUPPRESS)
     parser.add_argument("--reference", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.one is not None:
         return run_one(args)
+    os.makedirs(args.out, exist_ok=True)
+    if args.replot:
+        with open(args.replot, newline="") as stream:
+            rows = [{k: (v if k in ("scene", "family", "method") else float(v))
+                     for k, v in row.items()} for row in csv.DictReader(stream)]
+        for scene in SCENES:
+            if any(r["scene"] == scene for r in rows):
+                chart(rows, scene, os.path.join(args.out, "speed_accuracy_%s.png" % scene))
+        write_outputs(rows, args.out)
+        return 0
 
     import penumbra
 
-    if args.methods == "all":
-        wanted = [label for _, label, _ in METHODS]
-    else:
-        wanted = args.methods.split(",") if args.methods else DEFAULT_METHODS
+    wanted = ([label for _, label, _ in METHODS] if args.methods == "all"
+              else args.methods.split(",") if args.methods else None)
     rows = []
     os.makedirs(args.out, exist_ok=True)
     with tempfile.TemporaryDirectory() as folder:
@@ -353,15 +693,15 @@ def main():
                 points = floor_points(scene_data, args.points)
                 np.savez(reference, points=points, exact=exact_radiance(scene_data, points))
             for index, (family, label, _) in enumerate(METHODS):
-                if label not in wanted or (scene == "cornell" and args.methods is None
-                                           and label not in CORNELL_METHODS):
+                if args.methods is None:
+                    if label not in (CORNELL_METHODS if scene == "cornell" else DEFAULT_METHODS):
+                        continue
+                elif label not in wanted:
                     continue
                 python = sys.executable
                 if family == "path tracing":
-                    if scene not in PATH_TRACED_SCENES:
-                        continue
                     if not os.access(args.mitsuba_python, os.X_OK):
-                        print("%-9s %-18s left out: no Mitsuba venv at %s"
+                        print("%-9s %-40s left out: no Mitsuba venv at %s"
                               % (scene, label, args.mitsuba_python), flush=True)
                         continue
                     python = args.mitsuba_python
@@ -371,23 +711,11 @@ def main():
                     stdout=subprocess.PIPE, universal_newlines=True, check=True)
                 row = json.loads(child.stdout.strip().splitlines()[-1])
                 rows.append(row)
-                print("%-9s %-18s %7.2f s %6.0f MB %8d samples  RMS %.3g%%  p99 %.3g%%  max %.3g%%"
+                print("%-9s %-40s %7.2f s %6.0f MB %8d samples  RMS %.3g%%  p99 %.3g%%  max %.3g%%"
                       % (scene, label, row["seconds"], row["memory_mb"], row["samples"],
                          100 * row["rms"], 100 * row["p99"], 100 * row["max"]), flush=True)
             chart(rows, scene, os.path.join(args.out, "speed_accuracy_%s.png" % scene))
-    fields = ["scene", "family", "method", "seconds", "memory_mb", "samples", "points", "rms",
-              "p99", "max"]
-    with open(os.path.join(args.out, "speed_accuracy.csv"), "w", newline="") as stream:
-        writer = csv.DictWriter(stream, fieldnames=fields)
-        writer.writeheader()
-        writer.writerows(rows)
-    with open(os.path.join(args.out, "speed_accuracy.md"), "w") as stream:
-        stream.write("| scene | method | time (s) | peak memory (MB) | samples | RMS | p99 | max |\n")
-        stream.write("| --- | --- | --- | --- | --- | --- | --- | --- |\n")
-        for r in rows:
-            stream.write("| %s | %s | %.2f | %.0f | %d | %.3g%% | %.3g%% | %.3g%% |\n"
-                         % (r["scene"], r["method"], r["seconds"], r["memory_mb"], r["samples"],
-                            100 * r["rms"], 100 * r["p99"], 100 * r["max"]))
+    write_outputs(rows, args.out)
     return 0
 
 
