@@ -738,18 +738,6 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
   // into a large mesh, and rebuilding it all made the sampler's cost about
   // passes x size (10 times the final size on a box-room floor).
   constexpr int ScoredRings = 2, BuiltRings = 5;
-  struct TriangleKey
-  {
-    int A, B, C;
-    bool operator==(const TriangleKey& o) const { return A == o.A && B == o.B && C == o.C; }
-  };
-  struct TriangleKeyHash
-  {
-    std::size_t operator()(const TriangleKey& k) const
-    {
-      return CandidateKeyHash()(CandidateKey{ k.A, k.B, k.C });
-    }
-  };
   struct TriangleState
   {
     std::array<CandidateValue*, 4> Candidates;
@@ -760,9 +748,9 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
     int v[3] = { rec.Snap.PointVertex[tri[0]], rec.Snap.PointVertex[tri[1]],
       rec.Snap.PointVertex[tri[2]] };
     std::sort(v, v + 3);
-    return TriangleKey{ v[0], v[1], v[2] };
+    return CandidateKey{ v[0], v[1], v[2] }; // the key of its centroid
   };
-  std::unordered_map<TriangleKey, TriangleState, TriangleKeyHash> previous;
+  std::unordered_map<CandidateKey, TriangleState, CandidateKeyHash> previous;
   std::vector<int> newVertices;
   std::vector<int> hops;          // per vertex: rings from the nearest new vertex (capped)
   std::vector<int> subTriangle;   // per triangle: index in the built mesh, or -1
