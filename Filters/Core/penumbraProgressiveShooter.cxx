@@ -1429,17 +1429,18 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
         }
         if (group)
         {
-          // Some sample in front of the lowest shooter plane, and some
-          // shooter vertex in front of the receiver's plane.
+          // The receiver reaches in front of the lowest shooter plane, and
+          // some shooter reaches in front of the receiver's plane (polygon
+          // vertices: conservative, and cheap next to every sample or leaf).
           const PreparedPolygon& receiver = I.Occluders().GetPolygon(i);
           bool front = false, facing = false;
-          for (const Vec3& p : I.Samples[i].Points)
+          for (const Vec3& p : I.SceneCopy.Surfaces[i].Vertices)
           {
             front = front || Dot(shot.Normal, p) > shot.Offset;
           }
-          for (std::size_t k = 0; k < shot.Leaves.size() && !facing; ++k)
+          for (int j : members)
           {
-            for (const Vec3& y : shot.Leaves[k].Points)
+            for (const Vec3& y : I.SceneCopy.Surfaces[j].Vertices)
             {
               facing = facing || Dot(receiver.Normal, y) > receiver.Offset;
             }
