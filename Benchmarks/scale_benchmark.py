@@ -34,13 +34,23 @@ def run_child(polygons, threads, seed):
     from speed_accuracy import peak_memory_mb
 
     scene = box_room(polygons, seed=seed)
+    # Stage times from the progress callback: when each stage first reports.
+    starts = {}
+
+    def progress(stage, fraction):
+        starts.setdefault(stage, time.perf_counter())
+
     start = time.perf_counter()
-    result = penumbra.solve(scene, threads=threads, unshot_fraction=0.01)
-    seconds = time.perf_counter() - start
+    result = penumbra.solve(scene, threads=threads, unshot_fraction=0.01, progress=progress)
+    end = time.perf_counter()
+    seconds = end - start
+    ordered = sorted(starts.items(), key=lambda item: item[1]) + [("end", end)]
+    stages = {name: ordered[k + 1][1] - begin for k, (name, begin) in enumerate(ordered[:-1])}
     field = result.GetFieldData()
     print(json.dumps({
         "polygons": scene.GetNumberOfCells(), "seconds": seconds, "peak_mb": peak_memory_mb(),
-        "output_points": result.GetNumberOfPoints(),
+        "stages": stages, "output_points": result.GetNumberOfPoints(),
+        "indirect_samples": int(field.GetArray("IndirectSamples").GetValue(0)),
         "shots": int(field.GetArray("Shots").GetValue(0)),
         "unshot": field.GetArray("UnshotFraction").GetValue(0)}))
 
@@ -65,8 +75,9 @@ def main():
         return 0
 
     rows = []
-    print("| polygons | time (s) | peak memory (MB) | output points | shots | unshot left |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    print("| polygons | time (s) | peak memory (MB) | mesher / evaluator / shooter / "
+          "reconstructor (s) | output points | points shot on | shots | unshot left |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     for size in args.sizes:
         command = [sys.executable, os.path.abspath(__file__), "--child", str(size),
                    "--threads", str(args.threads), "--seed", str(args.seed)]
@@ -74,16 +85,19 @@ def main():
             done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                   universal_newlines=True, timeout=args.timeout)
         except subprocess.TimeoutExpired:
-            print("| %d | > %.0f (stopped) | | | | |" % (size, args.timeout), flush=True)
+            print("| %d | > %.0f (stopped) | | | | | | |" % (size, args.timeout), flush=True)
             continue
         if done.returncode != 0:
-            print("| %d | failed: %s | | | | |" % (size, (done.stderr.strip().splitlines()
+            print("| %d | failed: %s | | | | | | |" % (size, (done.stderr.strip().splitlines()
                                                       or ["?"])[-1]), flush=True)
             continue
         row = json.loads(done.stdout.strip().splitlines()[-1])
         rows.append(row)
-        print("| %d | %.1f | %.0f | %d | %d | %.4f |" % (row["polygons"], row["seconds"],
-              row["peak_mb"], row["output_points"], row["shots"], row["unshot"]), flush=True)
+        stage = " / ".join("%.1f" % row["stages"].get(name, 0.0) for name in
+                           ("mesher", "evaluator", "shooter", "reconstructor"))
+        print("| %d | %.1f | %.0f | %s | %d | %d | %d | %.4f |" % (
+            row["polygons"], row["seconds"], row["peak_mb"], stage, row["output_points"],
+            row["indirect_samples"], row["shots"], row["unshot"]), flush=True)
     if not rows:
         return 1
     polygons = [r["polygons"] for r in rows]

@@ -565,6 +565,9 @@ int CastShadows(const OccluderSet& set, int id, const QueryFrame& q, VisibilityW
   return left;
 }
 
+/// Shaft candidate lists longer than this are replaced by the BVH traversal (see Evaluate).
+constexpr int LongCandidateList = 64;
+
 double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shooterId, int receiverId,
   const int* candidates, int numberOfCandidates, bool traverse, VisibilityWorkspace& ws,
   VisibleRegion* region)
@@ -618,6 +621,12 @@ double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shoote
     }
   }
   int left = pieces.Count;
+  // A long shaft list (a large receiver, e.g. the floor of a room full of
+  // furniture, sees most of the scene in its shaft) costs more to filter
+  // point by point than the BVH traversal of the pyramid, which only visits
+  // what is near it. Either way the same occluders meet the pyramid, and
+  // they are sorted below, so the result does not depend on the choice.
+  traverse = traverse || numberOfCandidates > LongCandidateList;
 
   if (left > 0 && (traverse || numberOfCandidates > 0))
   {

@@ -112,6 +112,18 @@ struct Leaf
   Vec3 Centroid; ///< power-weighted (mean channel), area centroid as a fallback
   double Weight = 0.0; ///< scalar power (mean of RGB)
   int Surface = -1;    ///< the shooter it is a piece of
+  Vec3 Normal;         ///< the front normal of that shooter
+};
+
+/// Moments of a node whose leaves face different ways, one set per axis i
+/// of the normal m: the moments of L_c m_i (index [i][c]). The irradiance
+/// kernel is linear in m, so the node's expansion is the sum over the axes
+/// of the one-normal expansion with m = e_i and these moments.
+struct AxisMoments
+{
+  RGB Power[3];
+  Vec3 Dipole[3][3];
+  Symmetric Quadrupole[3][3];
 };
 
 /// A node of the hierarchy: an aggregate of a range of leaves, with the
@@ -126,10 +138,17 @@ struct Node
   int Left = -1;  ///< inner node: children (Left, Right); leaf: -1
   int Right = -1;
   int LeafIndex = -1; ///< leaf node: index of its leaf
-  /// Range of Dot(shot normal, y) over the node's triangles: the planes of
-  /// its shooters (one value for a single shooter). A point x with
-  /// Dot(normal, x) at most FrontMin is behind all of them.
+  /// The front normal of all its leaves, or when they differ the
+  /// (area-weighted) mean direction: the axis of a cone of half-angle
+  /// alpha (cos, sin below) holding every leaf's normal.
+  Vec3 Normal;
+  double ConeCos = 1.0, ConeSin = 0.0;
+  /// Range of Dot(Normal, y) over the node's triangles (one normal only):
+  /// the planes of its shooters. A point x with Dot(Normal, x) at most
+  /// FrontMin is behind all of them.
   double FrontMin = 0.0, FrontMax = 0.0;
+  /// Leaves facing different ways: index of its AxisMoments in the shot, else -1.
+  int Mixed = -1;
   /// The shooter all its leaves belong to, or -1 (a group shot's cluster).
   int Surface = -1;
   /// Where visibility rays aim for the node as a whole, and the surface
@@ -140,6 +159,13 @@ struct Node
   Vec3 Target;
   int TargetSurface = -1;
 };
+
+/// Group shots: a node whose leaves' normals spread wider than this (radians,
+/// from their mean) is split by normal before space (BuildNode).
+constexpr double MaximumConeAngle = 0.5;
+
+/// Group shots: most leaves split to LeafSize (PrepareGroupShot).
+constexpr double MaximumGroupLeaves = 250000.0;
 
 /// Deepest split of a near leaf by the fast method (pieces 1/2^NearDepth of the leaf).
 constexpr int NearDepth = 10;
@@ -312,7 +338,7 @@ void SplitToLeaves(const Vec3 p[3], const RGB v[3], double size, const Vec3& ori
  * The node of `count` leaves (power, centroid, radius, moments about the
  * centroid) from their moments about `origin`. Children are not set.
  */
-Node Aggregate(const Leaf* const* leaves, int count, const Vec3& origin)
+Node Aggregate(const Leaf* const* leaves, int count, const Vec3& origin, AxisMoments* mixed)
 {
   Node node;
   double weight = 0.0;
@@ -358,7 +384,139 @@ Node Aggregate(const Leaf* const* leaves, int count, const Vec3& origin)
     }
   }
   node.Radius = std::sqrt(node.Radius);
+  // The normal cone; per-axis moments when the normals differ.
+  bool oneNormal = true;
+  Vec3 axis;
+  for (int k = 0; k < count; ++k)
+  {
+    oneNormal = oneNormal && Dot(leaves[k]->Normal, leaves[0]->Normal) > 1.0 - 1e-12;
+    axis += leaves[k]->Normal * leaves[k]->Area;
+  }
+  node.Normal = leaves[0]->Normal;
+  if (oneNormal || Length(axis) == 0.0)
+  {
+    node.ConeCos = oneNormal ? 1.0 : -1.0;
+    node.ConeSin = 0.0;
+  }
+  else
+  {
+    node.Normal = Normalized(axis);
+    node.ConeCos = 1.0;
+    for (int k = 0; k < count; ++k)
+    {
+      node.ConeCos = std::min(node.ConeCos, Dot(leaves[k]->Normal, node.Normal));
+    }
+    node.ConeCos = std::max(-1.0, node.ConeCos);
+    node.ConeSin = std::sqrt(std::max(0.0, 1.0 - node.ConeCos * node.ConeCos));
+  }
+  if (!oneNormal && mixed)
+  {
+    *mixed = AxisMoments();
+    for (int i = 0; i < 3; ++i)
+    {
+      Vec3 first[3];
+      Symmetric second[3];
+      for (int k = 0; k < count; ++k)
+      {
+        const Leaf& leaf = *leaves[k];
+        const double m = leaf.Normal[i];
+        mixed->Power[i] += leaf.Power * m;
+        for (int c = 0; c < 3; ++c)
+        {
+          first[c] += leaf.First[c] * m;
+          Symmetric scaled = leaf.Second[c];
+          scaled.XX *= m;
+          scaled.YY *= m;
+          scaled.ZZ *= m;
+          scaled.XY *= m;
+          scaled.XZ *= m;
+          scaled.YZ *= m;
+          second[c] += scaled;
+        }
+      }
+      for (int c = 0; c < 3; ++c)
+      {
+        mixed->Dipole[i][c] = first[c] - e * mixed->Power[i][c];
+        mixed->Quadrupole[i][c] = second[c];
+        mixed->Quadrupole[i][c].AddOuter(e, first[c], -2.0);
+        mixed->Quadrupole[i][c].AddOuter(e, e, mixed->Power[i][c]);
+      }
+    }
+  }
   return node;
+}
+
+/// Where x lies relative to the planes of a node's leaves.
+enum class Side
+{
+  Behind,   ///< behind (or on) every plane: the node sends nothing to x
+  Front,    ///< strictly in front of every plane
+  Straddle  ///< possibly in front of some and behind others
+};
+
+/**
+ * Side of x: exact from the plane range for one normal; for a cone of
+ * normals (axis a, half-angle alpha) and the bounding sphere (c, R), from
+ * m.(x - y) = m.(x - c) + m.(c - y), the first term between
+ * |x - c| cos(phi + alpha) and |x - c| cos(phi - alpha) (phi the angle
+ * between a and x - c), the second within [-R, R].
+ */
+Side SideOf(const Node& node, const Vec3& x)
+{
+  if (node.ConeSin == 0.0 && node.ConeCos == 1.0)
+  {
+    const double front = Dot(node.Normal, x);
+    return !(front > node.FrontMin) ? Side::Behind
+                                    : (front > node.FrontMax ? Side::Front : Side::Straddle);
+  }
+  const Vec3 d = x - node.Centroid;
+  const double distance = Length(d);
+  if (!(distance > node.Radius))
+  {
+    return Side::Straddle;
+  }
+  const double phi = std::acos(std::max(-1.0, std::min(1.0, Dot(node.Normal, d) / distance)));
+  const double alpha = std::acos(node.ConeCos);
+  const double lowest = phi + alpha >= M_PI ? -1.0 : std::cos(phi + alpha);
+  if (distance * lowest > node.Radius)
+  {
+    return Side::Front;
+  }
+  const double highest = std::cos(std::max(0.0, phi - alpha));
+  return distance * highest < -node.Radius ? Side::Behind : Side::Straddle;
+}
+
+/**
+ * Second-order multipole expansion of int L k dA about a node's centroid c
+ * for a shooter normal m, one term per channel, at x (receiver normal n),
+ * d = c - x. With the kernel k(y) = a b / s^2 (d = y - x, s = |d|^2,
+ * a = n.d, b = -m.d):
+ *   E_c = P_c k + grad k . D_c + 1/2 H : M_c,
+ *   grad k = u / s^2 - 4 a b d / s^3,  u = b n - a m,
+ *   H = -(n m^T + m n^T) / s^2 - 4 (u d^T + d u^T) / s^3 - 4 a b I / s^3
+ *       + 24 a b d d^T / s^4.
+ * Linear in m, so also valid term by term for m = e_i (AxisMoments).
+ */
+RGB Expansion(const Vec3& m, const RGB& power, const Vec3 dipole[3], const Symmetric quadrupole[3],
+  const Vec3& d, const Vec3& n)
+{
+  const double r2 = SquaredLength(d);
+  const double a = Dot(n, d);
+  const double b = -Dot(m, d);
+  const Vec3 u = n * b - m * a;
+  const double s2 = r2 * r2;
+  const double s3 = s2 * r2;
+  const double k = a * b / s2;
+  const Vec3 gradient = u / s2 - d * (4.0 * a * b / s3);
+  RGB e;
+  for (int c = 0; c < 3; ++c)
+  {
+    const Symmetric& m2 = quadrupole[c];
+    const double hessian = -2.0 * m2.Form(n, m) / s2 - 8.0 * m2.Form(u, d) / s3 -
+      4.0 * a * b * m2.Trace() / s3 + 24.0 * a * b * m2.Form(d, d) / (s2 * s2);
+    e[c] = power[c] * k + Dot(gradient, dipole[c]) + 0.5 * hessian;
+  }
+  return e;
 }
 
 } // namespace
@@ -429,6 +587,8 @@ struct ProgressiveShooter::Internal
     ShooterRadiance Radiance; ///< exact method: the triangles with unshot radiance
     std::vector<Leaf> Leaves; ///< fast method: the pieces of the shooter
     std::vector<Node> Nodes;  ///< fast method: the hierarchy (root = 0)
+    std::vector<AxisMoments> Moments; ///< fast method: of the nodes facing several ways
+    bool Mixed = false; ///< a group shot of surfaces facing different ways
     double OpeningAngle = 0.3; ///< fast method: this shot's opening angle
   };
 
@@ -445,9 +605,9 @@ struct ProgressiveShooter::Internal
 
   void PrepareShot(int j, ShotMethod method, Shot& shot) const;
   void PrepareGroupShot(const std::vector<int>& members, Shot& shot) const;
-  void AddLeaves(int j, const Vec3& origin, std::vector<Leaf>& leaves) const;
+  void AddLeaves(int j, const Vec3& origin, double size, std::vector<Leaf>& leaves) const;
   int BuildNode(const std::vector<Leaf>& leaves, std::vector<int>& order, int first, int count,
-    const Vec3& origin, const Vec3& normal, std::vector<Node>& nodes) const;
+    const Vec3& origin, Shot& shot) const;
   ShotRecord ShootSurfaces(const std::vector<int>& members, ShotMethod method, double reference);
   RGB Evaluate(const Shot& shot, const Vec3& x, const Vec3& origin, const Vec3& n, int receiver,
     const std::vector<int>* candidates, const RayCaster* caster, ChunkWorkspace& ws,
@@ -484,7 +644,9 @@ void ProgressiveShooter::Internal::PrepareShot(int j, ShotMethod method, Shot& s
   shot.Normal = poly.Normal;
   shot.Offset = poly.Offset;
   shot.Empty = true;
+  shot.Mixed = false;
   shot.Nodes.clear();
+  shot.Moments.clear();
   // Triangles that carry unshot radiance and have an area (the others add nothing).
   Vec3 lo = s.Points.empty() ? Vec3() : s.Points[0];
   Vec3 hi = lo;
@@ -546,6 +708,7 @@ void ProgressiveShooter::Internal::PrepareShot(int j, ShotMethod method, Shot& s
   for (Leaf& leaf : leaves)
   {
     leaf.Surface = j;
+    leaf.Normal = poly.Normal;
   }
   std::vector<int> order(leaves.size());
   for (std::size_t k = 0; k < order.size(); ++k)
@@ -553,18 +716,17 @@ void ProgressiveShooter::Internal::PrepareShot(int j, ShotMethod method, Shot& s
     order[k] = static_cast<int>(k);
   }
   shot.Nodes.reserve(2 * leaves.size());
-  this->BuildNode(
-    leaves, order, 0, static_cast<int>(leaves.size()), poly.Centroid, poly.Normal, shot.Nodes);
+  this->BuildNode(leaves, order, 0, static_cast<int>(leaves.size()), poly.Centroid, shot);
 }
 
 /// The fast method's leaves of surface j (its triangles with unshot
-/// radiance, projected onto its plane, split to LeafSize), moments about
-/// `origin`.
-void ProgressiveShooter::Internal::AddLeaves(int j, const Vec3& origin, std::vector<Leaf>& leaves) const
+/// radiance, projected onto its plane, split until no longer than `size`),
+/// moments about `origin`.
+void ProgressiveShooter::Internal::AddLeaves(
+  int j, const Vec3& origin, double size, std::vector<Leaf>& leaves) const
 {
   const PreparedPolygon& poly = this->Occluders().GetPolygon(j);
   const SurfaceSamples& s = this->Samples[j];
-  const double size = this->Settings.LeafSize * poly.Diameter;
   for (std::size_t t = 0; t < s.Triangles.size(); ++t)
   {
     const std::array<int, 3>& tri = s.Triangles[t];
@@ -585,14 +747,15 @@ void ProgressiveShooter::Internal::AddLeaves(int j, const Vec3& origin, std::vec
     for (std::size_t k = first; k < leaves.size(); ++k)
     {
       leaves[k].Surface = j;
+      leaves[k].Normal = poly.Normal;
     }
   }
 }
 
-/// A fast shot of several surfaces with the same front normal at once (see
+/// A fast shot of several surfaces at once (see
 /// ProgressiveShooterSettings::GroupWeakShots): one hierarchy over all
 /// their leaves, so that a far cluster of them costs one expansion and one
-/// ray. Surfaces with the same normal never light each other.
+/// ray.
 void ProgressiveShooter::Internal::PrepareGroupShot(const std::vector<int>& members, Shot& shot) const
 {
   shot.OpeningAngle = this->Settings.OpeningAngle;
@@ -602,12 +765,15 @@ void ProgressiveShooter::Internal::PrepareGroupShot(const std::vector<int>& memb
   shot.Normal = this->Occluders().GetPolygon(members[0]).Normal;
   shot.Offset = HUGE_VAL;
   shot.Empty = true;
+  shot.Mixed = false;
   shot.Nodes.clear();
+  shot.Moments.clear();
   shot.Leaves.clear();
   Vec3 lo(HUGE_VAL, HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
   for (int j : members)
   {
     const PreparedPolygon& poly = this->Occluders().GetPolygon(j);
+    shot.Mixed = shot.Mixed || !(Dot(poly.Normal, shot.Normal) > 1.0 - 1e-12);
     shot.Offset = std::min(shot.Offset, Dot(shot.Normal, poly.Centroid));
     const Vec3& c = poly.Centroid;
     lo = { std::min(lo.X, c.X), std::min(lo.Y, c.Y), std::min(lo.Z, c.Z) };
@@ -616,9 +782,28 @@ void ProgressiveShooter::Internal::PrepareGroupShot(const std::vector<int>& memb
   // Moments about the middle of the group keep the subtractions in
   // Aggregate well conditioned.
   const Vec3 origin = (lo + hi) * 0.5;
+  // Leaves split to LeafSize as in a single shot, unless that makes more
+  // than MaximumGroupLeaves (a group may hold most of a large scene): then
+  // the sample triangles themselves; near leaves are refined anyway.
+  double leaves = 0.0;
   for (int j : members)
   {
-    this->AddLeaves(j, origin, shot.Leaves);
+    const SurfaceSamples& s = this->Samples[j];
+    const double size = this->Settings.LeafSize * this->Occluders().GetPolygon(j).Diameter;
+    for (const std::array<int, 3>& tri : s.Triangles)
+    {
+      const double longest = std::max({ Length(s.Points[tri[1]] - s.Points[tri[0]]),
+        Length(s.Points[tri[2]] - s.Points[tri[1]]), Length(s.Points[tri[0]] - s.Points[tri[2]]) });
+      const double levels = longest > size ? std::min(12.0, std::ceil(std::log2(longest / size))) : 0.0;
+      leaves += std::pow(4.0, levels);
+    }
+  }
+  const bool split = leaves <= MaximumGroupLeaves;
+  for (int j : members)
+  {
+    this->AddLeaves(j, origin,
+      split ? this->Settings.LeafSize * this->Occluders().GetPolygon(j).Diameter : HUGE_VAL,
+      shot.Leaves);
   }
   if (shot.Leaves.empty())
   {
@@ -631,14 +816,13 @@ void ProgressiveShooter::Internal::PrepareGroupShot(const std::vector<int>& memb
     order[k] = static_cast<int>(k);
   }
   shot.Nodes.reserve(2 * shot.Leaves.size());
-  this->BuildNode(shot.Leaves, order, 0, static_cast<int>(shot.Leaves.size()), origin,
-    shot.Normal, shot.Nodes);
+  this->BuildNode(shot.Leaves, order, 0, static_cast<int>(shot.Leaves.size()), origin, shot);
 }
 
 int ProgressiveShooter::Internal::BuildNode(const std::vector<Leaf>& leaves,
-  std::vector<int>& order, int first, int count, const Vec3& origin, const Vec3& normal,
-  std::vector<Node>& nodes) const
+  std::vector<int>& order, int first, int count, const Vec3& origin, Shot& shot) const
 {
+  std::vector<Node>& nodes = shot.Nodes;
   const int id = static_cast<int>(nodes.size());
   nodes.emplace_back();
   std::vector<const Leaf*> range(static_cast<std::size_t>(count));
@@ -651,7 +835,14 @@ int ProgressiveShooter::Internal::BuildNode(const std::vector<Leaf>& leaves,
     lo = { std::min(lo.X, c.X), std::min(lo.Y, c.Y), std::min(lo.Z, c.Z) };
     hi = { std::max(hi.X, c.X), std::max(hi.Y, c.Y), std::max(hi.Z, c.Z) };
   }
-  Node node = Aggregate(range.data(), count, origin);
+  AxisMoments moments;
+  Node node = Aggregate(range.data(), count, origin, &moments);
+  if (node.ConeCos < 1.0 || node.ConeSin > 0.0)
+  {
+    node.Mixed = static_cast<int>(shot.Moments.size());
+    shot.Moments.push_back(moments);
+  }
+  const Vec3& normal = node.Normal;
   node.FrontMin = HUGE_VAL;
   node.FrontMax = -HUGE_VAL;
   node.Surface = range[0]->Surface;
@@ -674,20 +865,35 @@ int ProgressiveShooter::Internal::BuildNode(const std::vector<Leaf>& leaves,
   node.TargetSurface = nearest->Surface;
   if (count > 1)
   {
-    // Median split of the leaf centroids along the longest axis (ties by
-    // leaf index: deterministic).
-    const Vec3 extent = hi - lo;
+    // Median split (ties by leaf index: deterministic): of the leaves'
+    // normals along their widest axis while the normal cone is wider than
+    // MaximumConeAngle (so that clusters face one way, and x is in front of
+    // all of a cluster's planes or behind them), else of the leaf centroids
+    // along the longest axis.
+    const bool byNormal = node.ConeCos < std::cos(MaximumConeAngle);
+    Vec3 low = lo, high = hi;
+    if (byNormal)
+    {
+      low = high = range[0]->Normal;
+      for (const Leaf* leaf : range)
+      {
+        const Vec3& m = leaf->Normal;
+        low = { std::min(low.X, m.X), std::min(low.Y, m.Y), std::min(low.Z, m.Z) };
+        high = { std::max(high.X, m.X), std::max(high.Y, m.Y), std::max(high.Z, m.Z) };
+      }
+    }
+    const Vec3 extent = high - low;
     const int axis =
       extent.X >= extent.Y ? (extent.X >= extent.Z ? 0 : 2) : (extent.Y >= extent.Z ? 1 : 2);
     const int half = count / 2;
     std::nth_element(order.begin() + first, order.begin() + first + half,
-      order.begin() + first + count, [axis, &leaves](int a, int b) {
-        const double ca = leaves[a].Centroid[axis];
-        const double cb = leaves[b].Centroid[axis];
+      order.begin() + first + count, [axis, byNormal, &leaves](int a, int b) {
+        const double ca = byNormal ? leaves[a].Normal[axis] : leaves[a].Centroid[axis];
+        const double cb = byNormal ? leaves[b].Normal[axis] : leaves[b].Centroid[axis];
         return ca < cb || (ca == cb && a < b);
       });
-    node.Left = this->BuildNode(leaves, order, first, half, origin, normal, nodes);
-    node.Right = this->BuildNode(leaves, order, first + half, count - half, origin, normal, nodes);
+    node.Left = this->BuildNode(leaves, order, first, half, origin, shot);
+    node.Right = this->BuildNode(leaves, order, first + half, count - half, origin, shot);
   }
   else
   {
@@ -701,7 +907,7 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
   const Vec3& n, int receiver, const std::vector<int>* candidates, const RayCaster* caster,
   ChunkWorkspace& ws, long long& rays) const
 {
-  if (shot.Empty || !(Dot(shot.Normal, x) - shot.Offset > 0.0))
+  if (shot.Empty || (!shot.Mixed && !(Dot(shot.Normal, x) - shot.Offset > 0.0)))
   {
     return RGB(); // x is behind the shooter, which emits from its front only
   }
@@ -723,7 +929,6 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
   }
   // Fast method. 1. Cut the hierarchy where nodes look small from x.
   const double theta = shot.OpeningAngle;
-  const double front = Dot(shot.Normal, x);
   ws.Current.clear();
   ws.Stack.clear();
   ws.Stack.push_back(0);
@@ -732,13 +937,18 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
     const int id = ws.Stack.back();
     ws.Stack.pop_back();
     const Node& node = shot.Nodes[id];
-    if (!(front > node.FrontMin))
+    if (node.Surface == receiver)
     {
-      continue; // behind every shooter plane of the node (a group shot)
+      continue; // a plane does not light itself (a group shot may hold the receiver)
+    }
+    const Side side = SideOf(node, x);
+    if (side == Side::Behind)
+    {
+      continue; // behind every shooter plane of the node
     }
     const Vec3 d = node.Centroid - x;
     if (node.Left >= 0 &&
-      (node.Radius * node.Radius >= theta * theta * SquaredLength(d) || !(front > node.FrontMax)))
+      (node.Radius * node.Radius >= theta * theta * SquaredLength(d) || side == Side::Straddle))
     {
       // Right first so that the left child is handled first (a fixed order).
       ws.Stack.push_back(node.Right);
@@ -853,7 +1063,7 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
   for (const int index : ws.Near)
   {
     const Leaf& leaf = shot.Leaves[index];
-    if (!(front > Dot(shot.Normal, leaf.Points[0])))
+    if (!(Dot(leaf.Normal, x) > Dot(leaf.Normal, leaf.Points[0])))
     {
       continue; // behind this leaf's shooter (a group shot)
     }
@@ -889,9 +1099,10 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
       if (radius * radius < theta * theta * r2)
       {
         const Vec3 centre = (piece.Points[0] + piece.Points[1] + piece.Points[2]) / 3.0;
-        const Leaf part = MakeLeaf(piece.Points, piece.Values, centre);
+        Leaf part = MakeLeaf(piece.Points, piece.Values, centre);
+        part.Normal = leaf.Normal;
         const Leaf* parts[1] = { &part };
-        const Node node = Aggregate(parts, 1, centre);
+        const Node node = Aggregate(parts, 1, centre, nullptr);
         const RGB e = this->NodeIrradiance(shot, node, x, n);
         if (!e.IsZero())
         {
@@ -907,7 +1118,7 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
       {
         continue;
       }
-      const RGB e = LinearPolygonIrradiance(x, n, clipped, count, shot.Normal,
+      const RGB e = LinearPolygonIrradiance(x, n, clipped, count, leaf.Normal,
         LinearRadiance::FromTriangle(piece.Points, piece.Values));
       if (!e.IsZero())
       {
@@ -944,31 +1155,25 @@ RGB ProgressiveShooter::Internal::NodeIrradiance(
   const Shot& shot, const Node& node, const Vec3& x, const Vec3& n) const
 {
   const Vec3 d = node.Centroid - x;
-  const double r2 = SquaredLength(d);
-  // Second-order multipole expansion of int L k dA about c, with the
-  // kernel k(y) = a b / s^2 (d = y - x, s = |d|^2, a = n.d, b = -m.d):
-  //   E_c = P_c k + grad k . D_c + 1/2 H : M_c,
-  //   grad k = u / s^2 - 4 a b d / s^3,  u = b n - a m,
-  //   H = -(n m^T + m n^T) / s^2 - 4 (u d^T + d u^T) / s^3 - 4 a b I / s^3
-  //       + 24 a b d d^T / s^4.
-  const double a = Dot(n, d);
-  const double b = -Dot(shot.Normal, d);
-  if (!(a > 0.0) || !(b > 0.0))
+  if (!(Dot(n, d) > 0.0))
   {
-    return RGB();
+    return RGB(); // the centroid is behind the receiver
   }
-  const Vec3 u = n * b - shot.Normal * a;
-  const double s2 = r2 * r2;
-  const double s3 = s2 * r2;
-  const double k = a * b / s2;
-  const Vec3 gradient = u / s2 - d * (4.0 * a * b / s3);
-  RGB e;
-  for (int c = 0; c < 3; ++c)
+  if (node.Mixed < 0)
   {
-    const Symmetric& m2 = node.Quadrupole[c];
-    const double hessian = -2.0 * m2.Form(n, shot.Normal) / s2 - 8.0 * m2.Form(u, d) / s3 -
-      4.0 * a * b * m2.Trace() / s3 + 24.0 * a * b * m2.Form(d, d) / (s2 * s2);
-    e[c] = node.Power[c] * k + Dot(gradient, node.Dipole[c]) + 0.5 * hessian;
+    if (!(-Dot(node.Normal, d) > 0.0))
+    {
+      return RGB(); // x is behind the centroid's plane
+    }
+    return Expansion(node.Normal, node.Power, node.Dipole, node.Quadrupole, d, n);
+  }
+  // Leaves facing different ways (x in front of all of them, see SideOf).
+  const AxisMoments& moments = shot.Moments[node.Mixed];
+  RGB e;
+  for (int i = 0; i < 3; ++i)
+  {
+    const Vec3 axis(i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0);
+    e += Expansion(axis, moments.Power[i], moments.Dipole[i], moments.Quadrupole[i], d, n);
   }
   return e;
 }
@@ -1423,11 +1628,16 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
       std::vector<int> candidates;
       for (int i = 0; i < numberOfSurfaces; ++i)
       {
-        if (isMember[i] || I.Samples[i].Points.empty())
+        if ((isMember[i] && !shot.Mixed) || I.Samples[i].Points.empty())
         {
           continue;
         }
-        if (group)
+        if (shot.Mixed)
+        {
+          // Members light each other; the hierarchy culls what is behind.
+          candidates.clear();
+        }
+        else if (group)
         {
           // The receiver reaches in front of the lowest shooter plane, and
           // some shooter reaches in front of the receiver's plane (polygon
@@ -1501,6 +1711,13 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
         body(0, items);
       }
     }
+    // The members' unshot radiance has been shot (before the updates: in a
+    // group facing several ways members also receive).
+    for (int j : members)
+    {
+      std::fill(I.Samples[j].Unshot.begin(), I.Samples[j].Unshot.end(), RGB());
+      I.UnshotPower[j] = RGB();
+    }
     // Fixed-order updates and sums.
     for (const Receiver& rec : receivers)
     {
@@ -1523,11 +1740,6 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
     for (const long long count : rays)
     {
       record.Rays += count;
-    }
-    for (int j : members)
-    {
-      std::fill(I.Samples[j].Unshot.begin(), I.Samples[j].Unshot.end(), RGB());
-      I.UnshotPower[j] = RGB();
     }
   }
   record.Escaped = Difference(record.Power, record.Incident);
@@ -1596,13 +1808,11 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     std::vector<int> members(1, j);
     if (method == ShotMethod::Fast && I.Settings.GroupWeakShots)
     {
-      const Vec3& normal = I.Occluders().GetPolygon(j).Normal;
       for (int k = 0; k < this->GetNumberOfSurfaces(); ++k)
       {
         const double power = I.UnshotPower[k].Mean();
         if (k != j && power > 0.0 && !I.Samples[k].Triangles.empty() &&
-          this->ChooseMethod(power) == ShotMethod::Fast &&
-          Dot(I.Occluders().GetPolygon(k).Normal, normal) > 1.0 - 1e-12)
+          this->ChooseMethod(power) == ShotMethod::Fast)
         {
           members.push_back(k);
         }

@@ -2,12 +2,98 @@
 #include "penumbraScene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
 namespace penumbra
 {
+
+void TriangulatePolygon(
+  const std::vector<Vec3>& v, const Vec3& normal, std::vector<std::array<int, 3>>& out)
+{
+  const int count = static_cast<int>(v.size());
+  if (count < 3)
+  {
+    return;
+  }
+  const Vec3 helper = std::abs(normal.X) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  const Vec3 axisU = Normalized(Cross(helper, normal));
+  const Vec3 axisV = Cross(normal, axisU);
+  std::vector<double> u(count);
+  std::vector<double> w(count);
+  for (int i = 0; i < count; ++i)
+  {
+    u[i] = Dot(v[i], axisU);
+    w[i] = Dot(v[i], axisV);
+  }
+  // (axisU, axisV, normal) is right-handed: counter-clockwise about `normal` is positive.
+  const auto cross = [&](int a, int b, int c) {
+    return (u[b] - u[a]) * (w[c] - w[a]) - (w[b] - w[a]) * (u[c] - u[a]);
+  };
+  std::vector<int> ring(count);
+  for (int i = 0; i < count; ++i)
+  {
+    ring[i] = i;
+  }
+  while (ring.size() > 3)
+  {
+    const int m = static_cast<int>(ring.size());
+    int ear = -1;
+    for (int k = 0; k < m && ear < 0; ++k)
+    {
+      const int a = ring[(k + m - 1) % m];
+      const int b = ring[k];
+      const int c = ring[(k + 1) % m];
+      if (!(cross(a, b, c) > 0.0))
+      {
+        continue; // reflex or flat
+      }
+      bool empty = true;
+      for (int j = 0; j < m && empty; ++j)
+      {
+        const int p = ring[j];
+        if (p == a || p == b || p == c)
+        {
+          continue;
+        }
+        empty = !(cross(a, b, p) >= 0.0 && cross(b, c, p) >= 0.0 && cross(c, a, p) >= 0.0);
+      }
+      if (empty)
+      {
+        ear = k;
+      }
+    }
+    if (ear < 0)
+    {
+      // No clean ear (flat or degenerate remainder): cut the flattest vertex.
+      double best = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < m; ++k)
+      {
+        const double c = std::abs(cross(ring[(k + m - 1) % m], ring[k], ring[(k + 1) % m]));
+        if (c < best)
+        {
+          best = c;
+          ear = k;
+        }
+      }
+    }
+    const int a = ring[(ear + m - 1) % m];
+    const int b = ring[ear];
+    const int c = ring[(ear + 1) % m];
+    if (cross(a, b, c) != 0.0)
+    {
+      out.push_back({ a, b, c });
+    }
+    ring.erase(ring.begin() + ear);
+  }
+  if (cross(ring[0], ring[1], ring[2]) != 0.0)
+  {
+    out.push_back({ ring[0], ring[1], ring[2] });
+  }
+}
+
 
 PolygonGeometry ComputePolygonGeometry(const std::vector<Vec3>& vertices)
 {

@@ -14,6 +14,7 @@
 #include "penumbraCoreModule.h" // for export macro
 #include "penumbraVector.h"
 
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -59,6 +60,16 @@ struct PolygonGeometry
 /// Geometry of a polygon from its vertices (Newell normal). Area is 0 for a
 /// degenerate polygon, in which case Normal is the zero vector.
 PENUMBRACORE_EXPORT PolygonGeometry ComputePolygonGeometry(const std::vector<Vec3>& vertices);
+
+/**
+ * Ear-clipping triangulation of a simple planar polygon `v` (either
+ * orientation) with unit normal `normal`, in its own plane; appends index
+ * triples into `v` to `out`. Collinear or numerically ambiguous remainders
+ * are cut at their flattest vertex, so it always ends with at most
+ * v.size() - 2 triangles (zero-area ones are left out).
+ */
+PENUMBRACORE_EXPORT void TriangulatePolygon(
+  const std::vector<Vec3>& v, const Vec3& normal, std::vector<std::array<int, 3>>& out);
 
 /// A collection of surfaces; surface i corresponds to input cell i.
 struct Scene

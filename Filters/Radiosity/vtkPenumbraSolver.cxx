@@ -87,6 +87,7 @@ int vtkPenumbraSolver::RequestData(
   shooter->SetSceneData(scene);
   shooter->SetUnshotFraction(this->UnshotFraction);
   shooter->SetExactPowerFraction(this->ExactPowerFraction);
+  shooter->SetMaximumIndirectSamples(this->MaximumIndirectSamples);
   vtkNew<vtkRadianceReconstructor> reconstructor;
   reconstructor->SetInputConnection(
     this->Indirect ? shooter->GetOutputPort() : evaluator->GetOutputPort());
@@ -149,6 +150,7 @@ void vtkPenumbraSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Indirect: " << (this->Indirect ? "On" : "Off") << "\n";
   os << indent << "UnshotFraction: " << this->UnshotFraction << "\n";
   os << indent << "ExactPowerFraction: " << this->ExactPowerFraction << "\n";
+  os << indent << "MaximumIndirectSamples: " << this->MaximumIndirectSamples << "\n";
   os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
   os << indent << "MaximumSamples: " << this->MaximumSamples << "\n";
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";

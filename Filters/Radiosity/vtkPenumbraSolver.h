@@ -91,6 +91,17 @@ public:
 
   ///@{
   /**
+   * Largest number of samples the interreflections are computed at; larger
+   * inputs shoot on a coarse level and interpolate the indirect light onto
+   * every sample (vtkProgressiveShooter::MaximumIndirectSamples). Default
+   * 100000, range [0, 2000000000]; 0 = always every sample.
+   */
+  vtkSetClampMacro(MaximumIndirectSamples, vtkIdType, 0, 2000000000);
+  vtkGetMacro(MaximumIndirectSamples, vtkIdType);
+  ///@}
+
+  ///@{
+  /**
    * Quality refinement of the discontinuity meshes: smallest angle in
    * degrees (vtkDiscontinuityMesher::MinimumAngle). Default 0 (none), range
    * [0, 20.6] (the mesher's limit).
@@ -120,6 +131,7 @@ protected:
   double ExactPowerFraction = 1.0;
   double SamplingTolerance = 0.002;
   vtkIdType MaximumSamples = 4000000;
+  vtkIdType MaximumIndirectSamples = 100000;
   double MinimumAngle = 0.0;
   int SubdivisionLevel = 2;
 

@@ -16,6 +16,7 @@
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 
+#include "penumbraIndirectLevel.h"
 #include "penumbraProgressiveShooter.h"
 
 #include <algorithm>
@@ -70,6 +71,15 @@ int vtkProgressiveShooter::RequestData(
   std::unordered_map<int, std::unordered_map<vtkIdType, int>> local;
   std::unordered_map<int, std::vector<vtkIdType>> global;
   std::unique_ptr<penumbra::ProgressiveShooter> shooter;
+  // Surfaces shot on the coarse level: the level and its values before shooting.
+  struct Coarse
+  {
+    std::shared_ptr<penumbra::IndirectLevel> Level;
+    penumbra::SurfaceSamples Before;
+  };
+  std::unordered_map<int, Coarse> coarse;
+  std::unordered_map<int, penumbra::SurfaceSamples> fine;
+  double spacing = 0.0;
   try
   {
     const penumbra::Scene scene = penumbra::SceneFromPolyData(sceneData);
@@ -122,12 +132,35 @@ int vtkProgressiveShooter::RequestData(
         return true;
       });
 
+    // Large inputs: shoot on the coarse level (see MaximumIndirectSamples).
+    std::vector<std::size_t> finePoints(scene.Surfaces.size(), 0);
+    for (const auto& entry : bySurface)
+    {
+      finePoints[entry.first] = entry.second.Points.size();
+    }
+    spacing = this->MaximumIndirectSamples > 0
+      ? penumbra::IndirectSpacing(
+          scene, finePoints, static_cast<std::size_t>(this->MaximumIndirectSamples))
+      : 0.0;
     shooter.reset(new penumbra::ProgressiveShooter(scene));
     shooter->SetSettings(settings);
     shooter->SetParallelFor(penumbra::SMPParallelFor());
     for (auto& entry : bySurface)
     {
-      shooter->SetSurfaceSamples(entry.first, std::move(entry.second));
+      if (spacing > 0.0 &&
+        penumbra::IndirectLevel::CountPoints(scene.Surfaces[entry.first], spacing) <
+          entry.second.Points.size())
+      {
+        auto level = std::make_shared<penumbra::IndirectLevel>(
+          scene.Surfaces[entry.first], spacing, entry.second);
+        coarse[entry.first] = { level, level->Restrict(entry.second) };
+        fine[entry.first] = std::move(entry.second);
+        shooter->SetSurfaceSamples(entry.first, coarse[entry.first].Before);
+      }
+      else
+      {
+        shooter->SetSurfaceSamples(entry.first, std::move(entry.second));
+      }
     }
   }
   catch (const penumbra::InputError& e)
@@ -147,9 +180,16 @@ int vtkProgressiveShooter::RequestData(
   vtkNew<vtkDoubleArray> total;
   total->DeepCopy(radiance);
   total->SetName("Radiance");
+  for (auto& entry : coarse)
+  {
+    entry.second.Level->Prolong(
+      entry.second.Before, shooter->GetSurfaceSamples(entry.first), fine[entry.first]);
+  }
   for (const auto& entry : global)
   {
-    const penumbra::SurfaceSamples& s = shooter->GetSurfaceSamples(entry.first);
+    const auto refined = fine.find(entry.first);
+    const penumbra::SurfaceSamples& s =
+      refined != fine.end() ? refined->second : shooter->GetSurfaceSamples(entry.first);
     for (std::size_t k = 0; k < entry.second.size(); ++k)
     {
       total->SetTuple3(entry.second[k], s.Total[k].R, s.Total[k].G, s.Total[k].B);
@@ -168,13 +208,33 @@ int vtkProgressiveShooter::RequestData(
   penumbra::AddField(fieldData, "EscapedPower", summary.Energy.Escaped());
   penumbra::AddField(fieldData, "UnshotPower", summary.Energy.Unshot);
   penumbra::AddField(fieldData, "ShootingSeconds", summary.Seconds);
-  vtkNew<vtkIntArray> order;
+  // The points the shots were evaluated at, and the coarse level's spacing (0: none).
+  vtkIdType shootingSamples = 0;
+  for (int i = 0; i < shooter->GetNumberOfSurfaces(); ++i)
+  {
+    shootingSamples += static_cast<vtkIdType>(shooter->GetSurfaceSamples(i).Points.size());
+  }
+  penumbra::AddField(fieldData, "IndirectSamples", static_cast<double>(shootingSamples));
+  penumbra::AddField(fieldData, "IndirectSpacing", coarse.empty() ? 0.0 : spacing);
+  // Per shot: the shooter (the strongest of a group), the surfaces shot
+  // together, the occlusion rays traced and the wall-clock seconds.
+  vtkNew<vtkIntArray> order, groupSize;
+  vtkNew<vtkDoubleArray> rays, seconds;
   order->SetName("ShotOrder");
+  groupSize->SetName("ShotGroupSize");
+  rays->SetName("ShotRays");
+  seconds->SetName("ShotSeconds");
   for (const penumbra::ShotRecord& shot : summary.History)
   {
     order->InsertNextValue(shot.Shooter);
+    groupSize->InsertNextValue(shot.GroupSize);
+    rays->InsertNextValue(static_cast<double>(shot.Rays));
+    seconds->InsertNextValue(shot.Seconds);
   }
   fieldData->AddArray(order);
+  fieldData->AddArray(groupSize);
+  fieldData->AddArray(rays);
+  fieldData->AddArray(seconds);
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -188,4 +248,5 @@ void vtkProgressiveShooter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OpeningAngle: " << this->OpeningAngle << "\n";
   os << indent << "CoarseShotFraction: " << this->CoarseShotFraction << "\n";
   os << indent << "GroupWeakShots: " << (this->GroupWeakShots ? "On" : "Off") << "\n";
+  os << indent << "MaximumIndirectSamples: " << this->MaximumIndirectSamples << "\n";
 }

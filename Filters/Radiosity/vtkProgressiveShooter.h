@@ -98,16 +98,31 @@ public:
 
   ///@{
   /**
-   * Shoot all weak surfaces of one orientation together: a fast shot also
-   * shoots every other surface with the same front normal whose unshot
-   * power calls for the fast method, over one hierarchy of all their
-   * pieces (penumbra::ProgressiveShooterSettings::GroupWeakShots). It is
-   * what makes scenes of thousands of polygons reach a small unshot
-   * fraction in a few hundred shots. Default on.
+   * Shoot all weak surfaces together: a fast shot also shoots every other
+   * surface whose unshot power calls for the fast method, whatever way it
+   * faces, over one hierarchy of all their pieces: one Jacobi sweep
+   * (penumbra::ProgressiveShooterSettings::GroupWeakShots). It is what
+   * makes scenes of thousands of polygons reach a small unshot fraction in
+   * about as many shots as their light needs bounces. Default on.
    */
   vtkSetMacro(GroupWeakShots, bool);
   vtkGetMacro(GroupWeakShots, bool);
   vtkBooleanMacro(GroupWeakShots, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Largest number of samples the interreflections are computed at. When
+   * the input has more samples (large scenes), the shots run on a coarse
+   * level instead: a uniform lattice mesh of every surface, its spacing
+   * chosen so that the level has about this many points, the initial
+   * values restricted from the samples (each surface's power kept) and the
+   * indirect light interpolated back onto every sample
+   * (penumbra::IndirectLevel). The direct light keeps every sample.
+   * Default 100000, range [0, 2000000000]; 0 = always every sample.
+   */
+  vtkSetClampMacro(MaximumIndirectSamples, vtkIdType, 0, 2000000000);
+  vtkGetMacro(MaximumIndirectSamples, vtkIdType);
   ///@}
 
   /**
@@ -129,6 +144,7 @@ protected:
   double OpeningAngle = 0.3;
   double CoarseShotFraction = 0.003;
   bool GroupWeakShots = true;
+  vtkIdType MaximumIndirectSamples = 100000;
 
 private:
   vtkProgressiveShooter(const vtkProgressiveShooter&) = delete;

@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @file penumbraIndirectLevel.h
+ * @brief The coarse level on which large scenes compute their
+ * interreflections.
+ *
+ * The progressive shooter evaluates every shot at every sample it is given
+ * (penumbraProgressiveShooter.h), so a shot costs samples times the
+ * shooter's hierarchy. The direct light needs thousands of samples per
+ * surface to follow its shadows; a room of thousands of polygons cannot
+ * afford to shoot hundreds of times onto all of them. When the samples
+ * exceed a budget, the interreflections run on a coarse level instead:
+ *
+ * - Mesh. Each surface's polygon is cut into its ear triangles
+ *   (TriangulatePolygon), and each ear into an n x n lattice of triangles,
+ *   one n per polygon (n = ceil(longest ear edge / spacing)), points on
+ *   shared ear edges made once. One spacing serves the whole scene
+ *   (IndirectSpacing), so the level is uniform in world units.
+ * - Restriction (fine -> coarse). The coarse values are the lumped L2
+ *   projection of the fine piecewise-linear function f:
+ *   v_k = int f phi_k dA / int phi_k dA (phi_k the coarse hat functions),
+ *   both integrals by the same midpoint rule on sub-triangles of each fine
+ *   triangle (at most half a lattice triangle's height across), so that
+ *   constants are kept; points the quadrature misses take their
+ *   neighbours' mean. Each channel is then scaled so that the integral of
+ *   the coarse interpolant, sum_k v_k int phi_k, equals the integral of f
+ *   (up to rounding): the power each surface has to shoot is the same on
+ *   both levels, and non-negative values stay non-negative.
+ * - Prolongation (coarse -> fine). What the shots added on the coarse level
+ *   (its Total after minus before) is interpolated linearly at the fine
+ *   points and added to their totals, so the direct light keeps its fine
+ *   shadows and the interreflections are as smooth as the lattice.
+ *
+ * What is lost: the indirect light is resolved to the spacing (contact
+ * shadows of secondary sources narrower than it are blurred), and the
+ * first bounce leaves from the restricted, not the exact, reflected direct
+ * light (same power per surface, blurred to the spacing).
+ */
+#ifndef penumbraIndirectLevel_h
+#define penumbraIndirectLevel_h
+
+#include "penumbraCoreModule.h" // for export macro
+#include "penumbraProgressiveShooter.h"
+#include "penumbraScene.h"
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+namespace penumbra
+{
+
+/// The coarse level of one surface and the transfer to and from its fine samples.
+class PENUMBRACORE_EXPORT IndirectLevel
+{
+public:
+  /**
+   * The lattice mesh of `surface` at `spacing` (> 0, scene units), and the
+   * location of the points of `fine` (which must lie in the surface's
+   * plane) in it.
+   */
+  IndirectLevel(const Surface& surface, double spacing, const SurfaceSamples& fine);
+
+  /// The lattice resolution n of each ear (see the file comment).
+  int GetResolution() const { return this->Resolution; }
+
+  /// Number of points of the coarse mesh.
+  std::size_t GetNumberOfPoints() const { return this->Points.size(); }
+
+  /// Number of coarse points `surface` would get at `spacing`, without building them.
+  static std::size_t CountPoints(const Surface& surface, double spacing);
+
+  /**
+   * The coarse samples: the lattice's points and triangles, with Total and
+   * Unshot the restrictions of `fine`'s (the samples given to the
+   * constructor, with their current values).
+   */
+  SurfaceSamples Restrict(const SurfaceSamples& fine) const;
+
+  /**
+   * Add to every fine total the coarse increment after.Total - before.Total
+   * interpolated at that fine point; `before` and `after` are coarse
+   * samples of this level (as returned by Restrict, and after shooting).
+   */
+  void Prolong(const SurfaceSamples& before, const SurfaceSamples& after, SurfaceSamples& fine) const;
+
+private:
+  /// A point of the plane located in the coarse mesh: corners and weights.
+  struct Location
+  {
+    std::array<int, 3> Corners;
+    std::array<double, 3> Weights;
+  };
+  Location Locate(const Vec3& p) const;
+
+  double Spacing = 0.0;
+  double QuadratureSize = 0.0;               ///< restriction: largest quadrature triangle
+  int Resolution = 1;
+  Vec3 AxisU, AxisV;                          ///< the plane's frame
+  std::vector<std::array<int, 3>> Ears;       ///< polygon vertex indices
+  std::vector<std::array<double, 2>> Corners; ///< polygon vertices in the frame
+  std::vector<std::vector<int>> LatticeIds;   ///< per ear: lattice (i, j) -> point id
+  std::vector<Vec3> Points;
+  std::vector<std::array<int, 3>> Triangles;
+  std::vector<double> Mass;                   ///< int phi_k dA per coarse point
+  std::vector<Location> FineLocations;
+};
+
+/**
+ * The lattice spacing at which the surfaces' sample counts total about
+ * `budget`, each surface counting min(its coarse points, finePoints[i])
+ * (a surface with fewer fine samples than coarse points keeps its fine
+ * samples). finePoints has one count per surface (0: the surface takes no
+ * part). Returns 0 when the fine samples already fit the budget.
+ */
+PENUMBRACORE_EXPORT double IndirectSpacing(
+  const Scene& scene, const std::vector<std::size_t>& finePoints, std::size_t budget);
+
+} // namespace penumbra
+
+#endif

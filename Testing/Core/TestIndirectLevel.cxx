@@ -1,0 +1,229 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The coarse level of the interreflections (penumbraIndirectLevel.h) against
+// invariants: the restriction keeps each channel's integral and reproduces
+// constants, the prolongation reproduces linear increments exactly, the
+// lattice covers the polygon (areas add up, also for a non-convex one), the
+// point count matches CountPoints, and IndirectSpacing meets its budget.
+#include "penumbraIndirectLevel.h"
+#include "penumbraTesting.h"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using penumbra::Cross;
+using penumbra::Dot;
+using penumbra::IndirectLevel;
+using penumbra::Length;
+using penumbra::RGB;
+using penumbra::Scene;
+using penumbra::Surface;
+using penumbra::SurfaceSamples;
+using penumbra::Vec3;
+
+namespace
+{
+
+/// An L-shaped polygon (non-convex) in a tilted plane, counter-clockwise.
+Surface LShape()
+{
+  const double uv[6][2] = { { 0, 0 }, { 4, 0 }, { 4, 1 }, { 1, 1 }, { 1, 3 }, { 0, 3 } };
+  const Vec3 origin(0.3, -1.2, 2.0);
+  const Vec3 u = penumbra::Normalized(Vec3(1.0, 0.2, -0.3));
+  const Vec3 v = penumbra::Normalized(Cross(Vec3(0.1, 0.3, 1.0), u));
+  Surface s;
+  for (const auto& p : uv)
+  {
+    s.Vertices.push_back(origin + u * p[0] + v * p[1]);
+  }
+  s.Reflectance = RGB(0.5, 0.5, 0.5);
+  return s;
+}
+
+/// Fine samples: a jittered grid of points clipped to the L (in its frame),
+/// triangulated cell by cell; values random per point.
+SurfaceSamples FineSamples(const Surface& s, int cells, std::mt19937& random)
+{
+  const Vec3 o = s.Vertices[0];
+  const Vec3 u = penumbra::Normalized(s.Vertices[1] - s.Vertices[0]);
+  const Vec3 n = penumbra::Normalized(Cross(s.Vertices[1] - s.Vertices[0], s.Vertices[2] - s.Vertices[1]));
+  const Vec3 v = Cross(n, u);
+  std::uniform_real_distribution<double> value(0.0, 2.0);
+  SurfaceSamples f;
+  // Points of a (cells*4) x (cells*3) lattice over [0,4] x [0,3]; cells
+  // outside the L are skipped (the L is a union of whole cells).
+  const int nu = 4 * cells, nv = 3 * cells;
+  std::vector<int> id((nu + 1) * (nv + 1), -1);
+  const auto inside = [&](double a, double b) { return a <= 1.0 + 1e-12 || b <= 1.0 + 1e-12; };
+  for (int i = 0; i <= nu; ++i)
+  {
+    for (int j = 0; j <= nv; ++j)
+    {
+      const double a = 4.0 * i / nu, b = 3.0 * j / nv;
+      if (inside(a, b))
+      {
+        id[i * (nv + 1) + j] = static_cast<int>(f.Points.size());
+        f.Points.push_back(o + u * a + v * b);
+        f.Total.emplace_back(value(random), value(random), value(random));
+        f.Unshot.emplace_back(value(random), value(random), value(random));
+      }
+    }
+  }
+  for (int i = 0; i < nu; ++i)
+  {
+    for (int j = 0; j < nv; ++j)
+    {
+      const double a = 4.0 * (i + 0.5) / nu, b = 3.0 * (j + 0.5) / nv;
+      if (!inside(a, b))
+      {
+        continue;
+      }
+      const int p00 = id[i * (nv + 1) + j], p10 = id[(i + 1) * (nv + 1) + j];
+      const int p01 = id[i * (nv + 1) + j + 1], p11 = id[(i + 1) * (nv + 1) + j + 1];
+      f.Triangles.push_back({ p00, p10, p11 });
+      f.Triangles.push_back({ p00, p11, p01 });
+    }
+  }
+  return f;
+}
+
+double Area(const SurfaceSamples& s, const std::array<int, 3>& t)
+{
+  return 0.5 * Length(Cross(s.Points[t[1]] - s.Points[t[0]], s.Points[t[2]] - s.Points[t[0]]));
+}
+
+/// Integral of the piecewise-linear interpolant of `values` over s's triangles.
+RGB Integral(const SurfaceSamples& s, const std::vector<RGB>& values)
+{
+  RGB sum;
+  for (const auto& t : s.Triangles)
+  {
+    sum += (values[t[0]] + values[t[1]] + values[t[2]]) * (Area(s, t) / 3.0);
+  }
+  return sum;
+}
+
+void TestCoverAndCount()
+{
+  const Surface s = LShape();
+  std::mt19937 random(1);
+  const SurfaceSamples fine = FineSamples(s, 8, random);
+  for (const double spacing : { 0.07, 0.3, 1.0, 10.0 })
+  {
+    const IndirectLevel level(s, spacing, fine);
+    const SurfaceSamples coarse = level.Restrict(fine);
+    double area = 0.0;
+    for (const auto& t : coarse.Triangles)
+    {
+      area += Area(coarse, t);
+    }
+    PENUMBRA_EXPECT_REL(area, 6.0, 1e-12); // the L: 4 x 1 plus 1 x 2
+    PENUMBRA_EXPECT(level.GetNumberOfPoints() == IndirectLevel::CountPoints(s, spacing));
+    PENUMBRA_EXPECT(coarse.Points.size() == level.GetNumberOfPoints());
+  }
+}
+
+void TestRestriction()
+{
+  const Surface s = LShape();
+  std::mt19937 random(2);
+  const SurfaceSamples fine = FineSamples(s, 10, random);
+  const RGB fineTotal = Integral(fine, fine.Total);
+  const RGB fineUnshot = Integral(fine, fine.Unshot);
+  for (const double spacing : { 0.05, 0.23, 0.8, 5.0 })
+  {
+    const IndirectLevel level(s, spacing, fine);
+    const SurfaceSamples coarse = level.Restrict(fine);
+    const RGB total = Integral(coarse, coarse.Total);
+    const RGB unshot = Integral(coarse, coarse.Unshot);
+    for (int c = 0; c < 3; ++c)
+    {
+      PENUMBRA_EXPECT_REL(total[c], fineTotal[c], 1e-12);
+      PENUMBRA_EXPECT_REL(unshot[c], fineUnshot[c], 1e-12);
+    }
+    for (std::size_t k = 0; k < coarse.Points.size(); ++k)
+    {
+      PENUMBRA_EXPECT(coarse.Total[k].R >= 0.0 && coarse.Unshot[k].B >= 0.0);
+    }
+  }
+  // A constant is reproduced at every coarse point.
+  SurfaceSamples constant = fine;
+  for (RGB& value : constant.Total)
+  {
+    value = RGB(0.25, 1.5, 3.0);
+  }
+  const IndirectLevel level(s, 0.3, constant);
+  const SurfaceSamples coarse = level.Restrict(constant);
+  double worst = 0.0;
+  for (const RGB& value : coarse.Total)
+  {
+    worst = std::max({ worst, std::abs(value.R - 0.25), std::abs(value.G - 1.5), std::abs(value.B - 3.0) });
+  }
+  PENUMBRA_EXPECT_NEAR(worst, 0.0, 1e-12);
+}
+
+void TestProlongation()
+{
+  const Surface s = LShape();
+  std::mt19937 random(3);
+  SurfaceSamples fine = FineSamples(s, 6, random);
+  const std::vector<RGB> initial = fine.Total;
+  const IndirectLevel level(s, 0.37, fine);
+  const SurfaceSamples before = level.Restrict(fine);
+  // A linear increment g(x) = a + b . x per channel is interpolated exactly.
+  const Vec3 b[3] = { Vec3(0.1, -0.2, 0.3), Vec3(0.0, 0.5, 0.1), Vec3(-0.3, 0.05, 0.2) };
+  const auto g = [&](const Vec3& x) {
+    return RGB(2.0 + Dot(b[0], x), 2.0 + Dot(b[1], x), 2.0 + Dot(b[2], x));
+  };
+  SurfaceSamples after = before;
+  for (std::size_t k = 0; k < after.Points.size(); ++k)
+  {
+    after.Total[k] += g(after.Points[k]);
+  }
+  level.Prolong(before, after, fine);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < fine.Points.size(); ++k)
+  {
+    const RGB expected = initial[k] + g(fine.Points[k]);
+    for (int c = 0; c < 3; ++c)
+    {
+      worst = std::max(worst, std::abs(fine.Total[k][c] - expected[c]));
+    }
+  }
+  PENUMBRA_EXPECT_NEAR(worst, 0.0, 1e-12);
+}
+
+void TestSpacing()
+{
+  Scene scene;
+  scene.Surfaces.push_back(LShape());
+  Surface square;
+  square.Vertices = { Vec3(0, 0, 5), Vec3(2, 0, 5), Vec3(2, 2, 5), Vec3(0, 2, 5) };
+  scene.Surfaces.push_back(square);
+  const std::vector<std::size_t> fine = { 5000, 20 };
+  PENUMBRA_EXPECT(penumbra::IndirectSpacing(scene, fine, 6000) == 0.0);
+  for (const std::size_t budget : { 50u, 300u, 2000u })
+  {
+    const double h = penumbra::IndirectSpacing(scene, fine, budget);
+    PENUMBRA_EXPECT(h > 0.0);
+    std::size_t count = 0, finer = 0;
+    for (std::size_t i = 0; i < 2; ++i)
+    {
+      count += std::min(fine[i], IndirectLevel::CountPoints(scene.Surfaces[i], h));
+      finer += std::min(fine[i], IndirectLevel::CountPoints(scene.Surfaces[i], (1.0 - 1e-6) * h));
+    }
+    PENUMBRA_EXPECT(count <= budget);
+    PENUMBRA_EXPECT(finer > budget); // the smallest spacing within the budget
+  }
+}
+
+} // namespace
+
+int main()
+{
+  TestCoverAndCount();
+  TestRestriction();
+  TestProlongation();
+  TestSpacing();
+  return penumbra::testing::Result();
+}
