@@ -191,55 +191,15 @@ struct ChunkWorkspace
   std::vector<Vec3> Targets;
   std::vector<int> TargetSurfaces; ///< the surface each target lies on (ignored by its ray), or -1
   std::vector<unsigned char> Occluded;
-  std::vector<int> Order; ///< TraceTargets' scratch: targets sorted by surface
-  std::vector<Vec3> SortedTargets;
-  std::vector<unsigned char> SortedOccluded;
 };
 
 /// Trace from `origin` to every target of ws, each ray ignoring the
-/// receiver and its target's surface. Targets of one surface are traced
-/// together (packets need one ignored surface; a group shot interleaves
-/// its members' targets).
+/// receiver and its target's surface.
 void TraceTargets(const RayCaster& caster, const Vec3& origin, int receiver, ChunkWorkspace& ws)
 {
-  const std::size_t count = ws.Targets.size();
-  ws.Occluded.resize(count);
-  if (std::all_of(ws.TargetSurfaces.begin(), ws.TargetSurfaces.end(),
-        [&](int id) { return id == ws.TargetSurfaces[0]; }))
-  {
-    caster.TraceFrom(origin, ws.Targets.data(), static_cast<int>(count), ws.Occluded.data(),
-      receiver, count ? ws.TargetSurfaces[0] : -1);
-    return;
-  }
-  ws.Order.resize(count);
-  for (std::size_t k = 0; k < count; ++k)
-  {
-    ws.Order[k] = static_cast<int>(k);
-  }
-  std::stable_sort(ws.Order.begin(), ws.Order.end(),
-    [&](int a, int b) { return ws.TargetSurfaces[a] < ws.TargetSurfaces[b]; });
-  ws.SortedTargets.resize(count);
-  ws.SortedOccluded.resize(count);
-  for (std::size_t k = 0; k < count; ++k)
-  {
-    ws.SortedTargets[k] = ws.Targets[ws.Order[k]];
-  }
-  for (std::size_t first = 0; first < count;)
-  {
-    const int surface = ws.TargetSurfaces[ws.Order[first]];
-    std::size_t last = first + 1;
-    while (last < count && ws.TargetSurfaces[ws.Order[last]] == surface)
-    {
-      ++last;
-    }
-    caster.TraceFrom(origin, ws.SortedTargets.data() + first, static_cast<int>(last - first),
-      ws.SortedOccluded.data() + first, receiver, surface);
-    first = last;
-  }
-  for (std::size_t k = 0; k < count; ++k)
-  {
-    ws.Occluded[ws.Order[k]] = ws.SortedOccluded[k];
-  }
+  ws.Occluded.resize(ws.Targets.size());
+  caster.TraceFrom(origin, ws.Targets.data(), ws.TargetSurfaces.data(),
+    static_cast<int>(ws.Targets.size()), ws.Occluded.data(), receiver);
 }
 
 /// The four midpoint children of a triangle with per-corner values (linear in between).
@@ -475,14 +435,16 @@ Side SideOf(const Node& node, const Vec3& x)
   {
     return Side::Straddle;
   }
-  const double phi = std::acos(std::max(-1.0, std::min(1.0, Dot(node.Normal, d) / distance)));
-  const double alpha = std::acos(node.ConeCos);
-  const double lowest = phi + alpha >= M_PI ? -1.0 : std::cos(phi + alpha);
+  // cos(phi +- alpha) from cos and sin of both; phi + alpha > pi when
+  // cos(phi) < -cos(alpha), phi < alpha when cos(phi) > cos(alpha).
+  const double c = std::max(-1.0, std::min(1.0, Dot(node.Normal, d) / distance));
+  const double s = std::sqrt(1.0 - c * c);
+  const double lowest = c < -node.ConeCos ? -1.0 : c * node.ConeCos - s * node.ConeSin;
   if (distance * lowest > node.Radius)
   {
     return Side::Front;
   }
-  const double highest = std::cos(std::max(0.0, phi - alpha));
+  const double highest = c > node.ConeCos ? 1.0 : c * node.ConeCos + s * node.ConeSin;
   return distance * highest < -node.Radius ? Side::Behind : Side::Straddle;
 }
 

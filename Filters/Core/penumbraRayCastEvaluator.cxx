@@ -39,7 +39,10 @@ void IgnoreSurfaces(const RTCFilterFunctionNArguments* args)
       continue;
     }
     const int surface = context->SurfaceOfTriangle[RTCHitN_primID(args->hit, args->N, i)];
-    if (surface == context->IgnoreA || surface == context->IgnoreB)
+    // A ray's id, when set, is one more surface to ignore, plus one.
+    const unsigned int own = RTCRayN_id(args->ray, args->N, i);
+    if (surface == context->IgnoreA || surface == context->IgnoreB ||
+      (own > 0 && static_cast<unsigned int>(surface) + 1u == own))
     {
       args->valid[i] = 0;
     }
@@ -492,6 +495,32 @@ void RayCaster::TraceFrom(const Vec3& origin, const Vec3* targets, int count,
     for (int i = 0; i < 8; ++i)
     {
       SetupLane(packet, i, origin, targets[first + std::min(i, lanes - 1)], this->P->Offset);
+      valid[i] = i < lanes ? -1 : 0;
+    }
+    rtcOccluded8(valid, this->P->Handle, &context.Context, &packet);
+    for (int i = 0; i < lanes; ++i)
+    {
+      occluded[first + i] = packet.tfar[i] < 0.0f ? 1 : 0;
+    }
+  }
+}
+
+void RayCaster::TraceFrom(const Vec3& origin, const Vec3* targets, const int* targetSurfaces,
+  int count, unsigned char* occluded, int ignore) const
+{
+  IgnoreContext context;
+  InitContext(context, this->P->SurfaceOfTriangle.data(), ignore, -1);
+  context.Context.filter = IgnoreSurfaces;
+  alignas(32) RTCRay8 packet;
+  alignas(32) int valid[8];
+  for (int first = 0; first < count; first += 8)
+  {
+    const int lanes = std::min(8, count - first);
+    for (int i = 0; i < 8; ++i)
+    {
+      const int k = first + std::min(i, lanes - 1);
+      SetupLane(packet, i, origin, targets[k], this->P->Offset);
+      packet.id[i] = targetSurfaces[k] >= 0 ? static_cast<unsigned int>(targetSurfaces[k]) + 1u : 0u;
       valid[i] = i < lanes ? -1 : 0;
     }
     rtcOccluded8(valid, this->P->Handle, &context.Context, &packet);

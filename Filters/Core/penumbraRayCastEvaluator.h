@@ -132,6 +132,14 @@ public:
   void TraceFrom(const Vec3& origin, const Vec3* targets, int count, unsigned char* occluded,
     int ignoreA = -1, int ignoreB = -1) const;
 
+  /**
+   * TraceFrom with one more ignored surface per target: the segment to
+   * targets[i] also ignores surface targetSurfaces[i] (-1: none), e.g. the
+   * surface the target lies on. Thread-safe.
+   */
+  void TraceFrom(const Vec3& origin, const Vec3* targets, const int* targetSurfaces, int count,
+    unsigned char* occluded, int ignore) const;
+
   /// Number of triangles in the Embree scene.
   int GetNumberOfTriangles() const;
 
