@@ -164,6 +164,9 @@ struct Node
 /// from their mean) is split by normal before space (BuildNode).
 constexpr double MaximumConeAngle = 0.5;
 
+/// Group shots: the weakest members have this fraction of the shooter's power (Run).
+constexpr double GroupPowerFraction = 0.1;
+
 /// Group shots: most leaves split to LeafSize (PrepareGroupShot).
 constexpr double MaximumGroupLeaves = 250000.0;
 
@@ -1770,11 +1773,18 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     std::vector<int> members(1, j);
     if (method == ShotMethod::Fast && I.Settings.GroupWeakShots)
     {
+      // The weak surfaces facing the shooter's way (which never light each
+      // other), and if GroupAcrossOrientations those with at least
+      // GroupPowerFraction of the shooter's power.
+      const double least = GroupPowerFraction * I.UnshotPower[j].Mean();
+      const Vec3& normal = I.Occluders().GetPolygon(j).Normal;
       for (int k = 0; k < this->GetNumberOfSurfaces(); ++k)
       {
         const double power = I.UnshotPower[k].Mean();
         if (k != j && power > 0.0 && !I.Samples[k].Triangles.empty() &&
-          this->ChooseMethod(power) == ShotMethod::Fast)
+          this->ChooseMethod(power) == ShotMethod::Fast &&
+          ((I.Settings.GroupAcrossOrientations && power >= least) ||
+            Dot(I.Occluders().GetPolygon(k).Normal, normal) > 1.0 - 1e-12))
         {
           members.push_back(k);
         }

@@ -65,6 +65,7 @@ int vtkProgressiveShooter::RequestData(
   settings.OpeningAngle = this->OpeningAngle;
   settings.CoarseShotFraction = this->CoarseShotFraction;
   settings.GroupWeakShots = this->GroupWeakShots;
+  settings.GroupAcrossOrientations = this->GroupAcrossOrientations;
 
   // Per surface: its samples in local numbering; global ids to write back.
   std::unordered_map<int, penumbra::SurfaceSamples> bySurface;
@@ -248,5 +249,7 @@ void vtkProgressiveShooter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OpeningAngle: " << this->OpeningAngle << "\n";
   os << indent << "CoarseShotFraction: " << this->CoarseShotFraction << "\n";
   os << indent << "GroupWeakShots: " << (this->GroupWeakShots ? "On" : "Off") << "\n";
+  os << indent << "GroupAcrossOrientations: " << (this->GroupAcrossOrientations ? "On" : "Off")
+     << "\n";
   os << indent << "MaximumIndirectSamples: " << this->MaximumIndirectSamples << "\n";
 }

@@ -98,16 +98,28 @@ public:
 
   ///@{
   /**
-   * Shoot all weak surfaces together: a fast shot also shoots every other
-   * surface whose unshot power calls for the fast method, whatever way it
-   * faces, over one hierarchy of all their pieces: one Jacobi sweep
-   * (penumbra::ProgressiveShooterSettings::GroupWeakShots). It is what
-   * makes scenes of thousands of polygons reach a small unshot fraction in
-   * about as many shots as their light needs bounces. Default on.
+   * Shoot all weak surfaces of one orientation together: a fast shot also
+   * shoots every other surface with the same front normal whose unshot
+   * power calls for the fast method, over one hierarchy of all their
+   * pieces (penumbra::ProgressiveShooterSettings::GroupWeakShots).
+   * Default on.
    */
   vtkSetMacro(GroupWeakShots, bool);
   vtkGetMacro(GroupWeakShots, bool);
   vtkBooleanMacro(GroupWeakShots, bool);
+  ///@}
+
+  ///@{
+  /**
+   * With GroupWeakShots, also group the weak surfaces facing other ways
+   * whose unshot power is at least a tenth of the shooter's: Jacobi sweeps
+   * instead of single shots (penumbra::ProgressiveShooterSettings::
+   * GroupAcrossOrientations: fewer shots, each as costly as its members
+   * shot alone). Default off.
+   */
+  vtkSetMacro(GroupAcrossOrientations, bool);
+  vtkGetMacro(GroupAcrossOrientations, bool);
+  vtkBooleanMacro(GroupAcrossOrientations, bool);
   ///@}
 
   ///@{
@@ -144,6 +156,7 @@ protected:
   double OpeningAngle = 0.3;
   double CoarseShotFraction = 0.003;
   bool GroupWeakShots = true;
+  bool GroupAcrossOrientations = false;
   vtkIdType MaximumIndirectSamples = 100000;
 
 private:
