@@ -4,16 +4,20 @@
 boxes (penumbra.generators.box_room) of N polygons.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
-        Benchmarks/scale_benchmark.py [--sizes 1000 5000 20000] [--threads 2]
+        Benchmarks/scale_benchmark.py [--sizes 1000 5000 20000] [--threads 2] \\
+        [--indirect-samples N] [--across]
 
 Each size runs in its own process (so peak memory is that solve's alone):
 penumbra.solve(scene, unshot_fraction=0.01), i.e. direct light plus
 interreflections until 1% of the emitted power is left unshot. Prints a
-Markdown table (polygons, wall time, peak resident memory, samples, shots)
+Markdown table (polygons, wall time, peak resident memory, stage times,
+points shot on, shots)
 and the least-squares growth exponents of time and memory against the
 number of polygons, and draws a log-log chart into --out
 (default build/benchmarks). Targets (issue 8): 20,000 polygons in under
-5 minutes and 4 GB on 2 cores.
+5 minutes and 4 GB on 2 cores. --indirect-samples and --across set the
+solver's MaximumIndirectSamples and GroupAcrossOrientations (the
+large-scene settings of the README).
 """
 import argparse
 import json
@@ -26,7 +30,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 TARGET_SECONDS, TARGET_MB = 300.0, 4096.0
 
 
-def run_child(polygons, threads, seed):
+def run_child(polygons, threads, seed, settings):
     """One solve, in this process; prints one JSON line."""
     sys.path.insert(0, HERE)
     import penumbra
@@ -41,7 +45,8 @@ def run_child(polygons, threads, seed):
         starts.setdefault(stage, time.perf_counter())
 
     start = time.perf_counter()
-    result = penumbra.solve(scene, threads=threads, unshot_fraction=0.01, progress=progress)
+    result = penumbra.solve(scene, threads=threads, unshot_fraction=0.01, progress=progress,
+                            **settings)
     end = time.perf_counter()
     seconds = end - start
     ordered = sorted(starts.items(), key=lambda item: item[1]) + [("end", end)]
@@ -68,10 +73,19 @@ def main():
     parser.add_argument("--timeout", type=float, default=3600.0,
                         help="seconds allowed per size before it is reported as not finished")
     parser.add_argument("--out", default=os.path.join(os.path.dirname(HERE), "build", "benchmarks"))
+    parser.add_argument("--indirect-samples", type=int,
+                        help="MaximumIndirectSamples (default: the solver's)")
+    parser.add_argument("--across", action="store_true",
+                        help="GroupAcrossOrientations on (default: the solver's, off)")
     parser.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child is not None:
-        run_child(args.child, args.threads, args.seed)
+        settings = {}
+        if args.indirect_samples is not None:
+            settings["indirect_samples"] = args.indirect_samples
+        if args.across:
+            settings["group_across_orientations"] = True
+        run_child(args.child, args.threads, args.seed, settings)
         return 0
 
     rows = []
@@ -81,6 +95,10 @@ def main():
     for size in args.sizes:
         command = [sys.executable, os.path.abspath(__file__), "--child", str(size),
                    "--threads", str(args.threads), "--seed", str(args.seed)]
+        if args.indirect_samples is not None:
+            command += ["--indirect-samples", str(args.indirect_samples)]
+        if args.across:
+            command.append("--across")
         try:
             done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                   universal_newlines=True, timeout=args.timeout)
@@ -121,7 +139,10 @@ def main():
                 label="peak memory, MB (slope %.2f)" % memory_exponent)
     axis.axhline(TARGET_SECONDS, color="C0", lw=0.8, ls=":")
     axis.set_xlabel("polygons (box rooms)")
-    axis.set_title("Default solve, %d threads, unshot 1%%" % args.threads)
+    label = "default solve" if args.indirect_samples is None and not args.across else \
+        "indirect samples %s%s" % (args.indirect_samples or "default",
+                                   ", across orientations" if args.across else "")
+    axis.set_title("%s, %d threads, unshot 1%%" % (label, args.threads))
     axis.legend()
     axis.grid(True, which="both", alpha=0.3)
     path = os.path.join(args.out, "scale.png")

@@ -102,6 +102,18 @@ public:
 
   ///@{
   /**
+   * Shoot the weak surfaces of every orientation together, Jacobi sweeps
+   * (vtkProgressiveShooter::GroupAcrossOrientations): fewer shots, each as
+   * costly as its members shot alone; faster on rooms of hundreds of
+   * polygons, slower on small scenes. Default off.
+   */
+  vtkSetMacro(GroupAcrossOrientations, bool);
+  vtkGetMacro(GroupAcrossOrientations, bool);
+  vtkBooleanMacro(GroupAcrossOrientations, bool);
+  ///@}
+
+  ///@{
+  /**
    * Quality refinement of the discontinuity meshes: smallest angle in
    * degrees (vtkDiscontinuityMesher::MinimumAngle). Default 0 (none), range
    * [0, 20.6] (the mesher's limit).
@@ -132,6 +144,7 @@ protected:
   double SamplingTolerance = 0.002;
   vtkIdType MaximumSamples = 4000000;
   vtkIdType MaximumIndirectSamples = 100000;
+  bool GroupAcrossOrientations = false;
   double MinimumAngle = 0.0;
   int SubdivisionLevel = 2;
 

@@ -103,14 +103,19 @@ def build_standard(scene_port, unshot_fraction=None, element_size=None, patch_si
 
 def solve(scene, threads=None, minimum_angle=None, subdivision_level=None, indirect=True,
           unshot_fraction=None, exact_power_fraction=None, progress=None,
-          method="discontinuity", **standard_settings):
+          method="discontinuity", indirect_samples=None, group_across_orientations=None,
+          **standard_settings):
     """Solve `scene` (a built-in name, a .vtp/.obj path, or a scene vtkPolyData).
 
     threads: worker threads (default: all cores). indirect: run the
     progressive shooter for interreflections (False: direct light only);
     unshot_fraction: stop shooting when the unshot power is below this
-    fraction of the emitted power. Settings left None keep the defaults of
-    vtkPenumbraSolver (or vtkStandardRadiositySolver). progress: a callable
+    fraction of the emitted power. indirect_samples: largest number of
+    points the interreflections are shot onto (more samples: a coarse
+    level, vtkPenumbraSolver::MaximumIndirectSamples);
+    group_across_orientations: Jacobi sweeps of the weak surfaces of every
+    orientation (vtkPenumbraSolver::GroupAcrossOrientations). Settings
+    left None keep the defaults of vtkPenumbraSolver (or vtkStandardRadiositySolver). progress: a callable
     progress(stage_name, fraction) called as the solve runs (fraction of
     the whole solve, from 0 to 1). method:
     "discontinuity" (the default, the paper's method) or "standard" (the
@@ -158,7 +163,9 @@ def solve(scene, threads=None, minimum_angle=None, subdivision_level=None, indir
         for setter, value in ((algorithm.SetMinimumAngle, minimum_angle),
                               (algorithm.SetSubdivisionLevel, subdivision_level),
                               (algorithm.SetUnshotFraction, unshot_fraction),
-                              (algorithm.SetExactPowerFraction, exact_power_fraction)):
+                              (algorithm.SetExactPowerFraction, exact_power_fraction),
+                              (algorithm.SetMaximumIndirectSamples, indirect_samples),
+                              (algorithm.SetGroupAcrossOrientations, group_across_orientations)):
             if value is not None:
                 setter(value)
     if progress is not None:
