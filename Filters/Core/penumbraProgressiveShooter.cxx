@@ -170,6 +170,10 @@ constexpr double GroupPowerFraction = 0.1;
 /// Group shots: most leaves split to LeafSize (PrepareGroupShot).
 constexpr double MaximumGroupLeaves = 250000.0;
 
+/// Receiver clusters: rays from this many of a cluster's points decide
+/// the visibility of a node for the whole cluster when they agree.
+constexpr int ClusterOrigins = 4;
+
 /// Deepest split of a near leaf by the fast method (pieces 1/2^NearDepth of the leaf).
 constexpr int NearDepth = 10;
 
@@ -194,6 +198,9 @@ struct ChunkWorkspace
   std::vector<Vec3> Targets;
   std::vector<int> TargetSurfaces; ///< the surface each target lies on (ignored by its ray), or -1
   std::vector<unsigned char> Occluded;
+  std::vector<int> Roots;   ///< receiver cluster: nodes each point handles on its own
+  std::vector<int> Visible; ///< receiver cluster: visible nodes far from every point
+  std::vector<unsigned char> Flags; ///< receiver cluster: per target, the origins that see it
 };
 
 /// Trace from `origin` to every target of ws, each ray ignoring the
@@ -422,19 +429,23 @@ enum class Side
  * normals (axis a, half-angle alpha) and the bounding sphere (c, R), from
  * m.(x - y) = m.(x - c) + m.(c - y), the first term between
  * |x - c| cos(phi + alpha) and |x - c| cos(phi - alpha) (phi the angle
- * between a and x - c), the second within [-R, R].
+ * between a and x - c), the second within [-R, R]. With `spread` > 0 the
+ * answer holds for every point within that distance of x (a receiver
+ * cluster's bounding sphere).
  */
-Side SideOf(const Node& node, const Vec3& x)
+Side SideOf(const Node& node, const Vec3& x, double spread = 0.0)
 {
   if (node.ConeSin == 0.0 && node.ConeCos == 1.0)
   {
     const double front = Dot(node.Normal, x);
-    return !(front > node.FrontMin) ? Side::Behind
-                                    : (front > node.FrontMax ? Side::Front : Side::Straddle);
+    return !(front + spread > node.FrontMin)
+      ? Side::Behind
+      : (front - spread > node.FrontMax ? Side::Front : Side::Straddle);
   }
   const Vec3 d = x - node.Centroid;
   const double distance = Length(d);
-  if (!(distance > node.Radius))
+  const double radius = node.Radius + spread;
+  if (!(distance > radius))
   {
     return Side::Straddle;
   }
@@ -443,12 +454,12 @@ Side SideOf(const Node& node, const Vec3& x)
   const double c = std::max(-1.0, std::min(1.0, Dot(node.Normal, d) / distance));
   const double s = std::sqrt(1.0 - c * c);
   const double lowest = c < -node.ConeCos ? -1.0 : c * node.ConeCos - s * node.ConeSin;
-  if (distance * lowest > node.Radius)
+  if (distance * lowest > radius)
   {
     return Side::Front;
   }
   const double highest = c > node.ConeCos ? 1.0 : c * node.ConeCos + s * node.ConeSin;
-  return distance * highest < -node.Radius ? Side::Behind : Side::Straddle;
+  return distance * highest < -radius ? Side::Behind : Side::Straddle;
 }
 
 /**
@@ -510,6 +521,11 @@ void ProgressiveShooterSettings::Validate() const
   if (!(this->OpeningAngle > 0.0 && this->OpeningAngle <= 2.0))
   {
     fail("OpeningAngle must be in (0, 2], got " + std::to_string(this->OpeningAngle));
+  }
+  if (!(this->ReceiverClusterSize >= 0 && this->ReceiverClusterSize <= 4096))
+  {
+    fail("ReceiverClusterSize must be in [0, 4096], got " +
+      std::to_string(this->ReceiverClusterSize));
   }
   if (!(this->LeafSize > 0.0 && this->LeafSize <= 1.0))
   {
@@ -577,6 +593,32 @@ struct ProgressiveShooter::Internal
   RGB Evaluate(const Shot& shot, const Vec3& x, const Vec3& origin, const Vec3& n, int receiver,
     const std::vector<int>* candidates, const RayCaster* caster, ChunkWorkspace& ws,
     long long& rays) const;
+  RGB EvaluateFast(const Shot& shot, const Vec3& x, const Vec3& origin, const Vec3& n,
+    int receiver, const std::vector<int>& roots, const RayCaster& caster, ChunkWorkspace& ws,
+    long long& rays) const;
+
+  /// Fast method, receiver clusters: points facing the same way (one
+  /// normal), near each other, possibly on several surfaces.
+  struct ReceiverCluster
+  {
+    Vec3 Centre;         ///< centre of the points' bounding box
+    double Radius = 0.0; ///< largest distance from Centre to a point
+    Vec3 Normal;         ///< the normal of every point
+    int First = 0;       ///< the points are ClusterPoints[First, First + Count)
+    int Count = 0;
+    int Surface = -1;    ///< the surface of every point, or -1 if several
+    /// Where its rays start (indices in ClusterPoints): the point nearest
+    /// Centre, then each the point farthest from those before.
+    int Origins[ClusterOrigins] = { 0, 0, 0, 0 };
+    int OriginCount = 0;
+  };
+  void BuildClusters();
+  void EvaluateCluster(const Shot& shot, const ReceiverCluster& cluster, const RayCaster& caster,
+    const std::vector<long long>& firstItem, ChunkWorkspace& ws, RGB* irradiance,
+    long long& rays) const;
+  std::vector<ReceiverCluster> Clusters;
+  std::vector<std::pair<int, int>> ClusterPoints; ///< (surface, point) of each cluster's points
+  bool ClustersValid = false;
   void EnsureEnergy();
   void UpdateEvaluationPoints(int surfaceId);
   RGB NodeIrradiance(const Shot& shot, const Node& node, const Vec3& x, const Vec3& n) const;
@@ -892,11 +934,23 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
     // integrated in closed form for the triangle's linear radiance.
     return VisibleShooterIrradiance(x, n, shot.Radiance, region, shot.Normal, ws.Linear);
   }
-  // Fast method. 1. Cut the hierarchy where nodes look small from x.
+  ws.Roots.assign(1, 0);
+  const RGB sum = this->EvaluateFast(shot, x, origin, n, receiver, ws.Roots, *caster, ws, rays);
+  // A non-negative radiance gives a non-negative irradiance; grazing nodes'
+  // expansions may dip below 0.
+  return { std::max(sum.R, 0.0), std::max(sum.G, 0.0), std::max(sum.B, 0.0) };
+}
+
+/// The fast method at x over the subtrees of the hierarchy rooted at
+/// `roots` (the root alone for the whole shooter). Unclamped.
+RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
+  const Vec3& origin, const Vec3& n, int receiver, const std::vector<int>& roots,
+  const RayCaster& caster, ChunkWorkspace& ws, long long& rays) const
+{
+  // 1. Cut the hierarchy where nodes look small from x.
   const double theta = shot.OpeningAngle;
   ws.Current.clear();
-  ws.Stack.clear();
-  ws.Stack.push_back(0);
+  ws.Stack.assign(roots.rbegin(), roots.rend());
   while (!ws.Stack.empty())
   {
     const int id = ws.Stack.back();
@@ -959,7 +1013,7 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
     const int count = static_cast<int>(ws.Targets.size());
     if (count > 0)
     {
-      TraceTargets(*caster, origin, receiver, ws);
+      TraceTargets(caster, origin, receiver, ws);
       rays += count;
     }
     ws.Next.clear();
@@ -1101,7 +1155,7 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
   if (!ws.Targets.empty())
   {
     const int count = static_cast<int>(ws.Targets.size());
-    TraceTargets(*caster, origin, receiver, ws);
+    TraceTargets(caster, origin, receiver, ws);
     rays += count;
     for (int k = 0; k < count; ++k)
     {
@@ -1111,9 +1165,349 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
       }
     }
   }
-  // A non-negative radiance gives a non-negative irradiance; grazing nodes'
-  // expansions may dip below 0.
-  return { std::max(sum.R, 0.0), std::max(sum.G, 0.0), std::max(sum.B, 0.0) };
+  return sum;
+}
+
+void ProgressiveShooter::Internal::BuildClusters()
+{
+  this->Clusters.clear();
+  this->ClusterPoints.clear();
+  this->ClustersValid = true;
+  const int size = this->Settings.ReceiverClusterSize;
+  if (size <= 1)
+  {
+    return;
+  }
+  // Surfaces grouped by plane (normals within 1e-6, offsets within 1e-6 of
+  // the diameters), in id order: points of one plane see past the same
+  // occluders; a box's top and the floor around it do not.
+  std::vector<Vec3> normals;
+  std::vector<double> offsets, diameters;
+  std::vector<std::vector<int>> groups;
+  for (int i = 0; i < static_cast<int>(this->Samples.size()); ++i)
+  {
+    if (this->EvaluationPoints[i].empty())
+    {
+      continue;
+    }
+    const Vec3& normal = this->Occluders().GetPolygon(i).Normal;
+    const double offset = this->Occluders().GetPolygon(i).Offset;
+    const double diameter = this->Occluders().GetPolygon(i).Diameter;
+    std::size_t g = 0;
+    while (g < normals.size() &&
+      !(Dot(normals[g], normal) > 1.0 - 1e-6 &&
+        std::abs(offsets[g] - offset) <= 1e-6 * (diameters[g] + diameter)))
+    {
+      ++g;
+    }
+    if (g == normals.size())
+    {
+      normals.push_back(normal);
+      offsets.push_back(offset);
+      diameters.push_back(diameter);
+      groups.emplace_back();
+    }
+    groups[g].push_back(i);
+  }
+  // Each group's points split at the median of the longest side of their
+  // bounding box until at most `size` remain (ties broken by surface and
+  // index, so that the clusters do not depend on the library's sort).
+  const auto point = [this](const std::pair<int, int>& p) -> const Vec3& {
+    return this->EvaluationPoints[p.first][p.second];
+  };
+  // The spacing of each surface's points, sqrt(area / points): a cluster
+  // wider than sqrt(size) spacings (sparse points, e.g. small faces far
+  // apart) is split further, else nothing would be far from it.
+  std::vector<double> spacing(this->Samples.size(), 0.0);
+  for (std::size_t i = 0; i < this->Samples.size(); ++i)
+  {
+    double area = 0.0;
+    for (double a : this->Areas[i])
+    {
+      area += a;
+    }
+    spacing[i] = this->Samples[i].Points.empty()
+      ? 0.0
+      : std::sqrt(area / static_cast<double>(this->Samples[i].Points.size()));
+  }
+  for (std::size_t g = 0; g < groups.size(); ++g)
+  {
+    const int begin = static_cast<int>(this->ClusterPoints.size());
+    for (int i : groups[g])
+    {
+      for (int k = 0; k < static_cast<int>(this->EvaluationPoints[i].size()); ++k)
+      {
+        this->ClusterPoints.emplace_back(i, k);
+      }
+    }
+    std::vector<std::pair<int, int>> ranges{ { begin,
+      static_cast<int>(this->ClusterPoints.size()) - begin } };
+    while (!ranges.empty())
+    {
+      const std::pair<int, int> range = ranges.back();
+      ranges.pop_back();
+      auto first = this->ClusterPoints.begin() + range.first;
+      auto last = first + range.second;
+      Vec3 low = point(*first), high = low;
+      for (auto it = first; it != last; ++it)
+      {
+        const Vec3& p = point(*it);
+        low = Vec3(std::min(low.X, p.X), std::min(low.Y, p.Y), std::min(low.Z, p.Z));
+        high = Vec3(std::max(high.X, p.X), std::max(high.Y, p.Y), std::max(high.Z, p.Z));
+      }
+      double widest = 0.0;
+      for (auto it = first; it != last; ++it)
+      {
+        widest = std::max(widest, spacing[it->first]);
+      }
+      if (range.second > size ||
+        (range.second > 1 && 0.5 * Length(high - low) > std::sqrt(double(size)) * widest))
+      {
+        const Vec3 extent = high - low;
+        const int axis = extent.X >= extent.Y && extent.X >= extent.Z ? 0 : (extent.Y >= extent.Z ? 1 : 2);
+        const auto coordinate = [axis](const Vec3& p) {
+          return axis == 0 ? p.X : (axis == 1 ? p.Y : p.Z);
+        };
+        const int half = range.second / 2;
+        std::nth_element(first, first + half, last,
+          [&](const std::pair<int, int>& a, const std::pair<int, int>& b) {
+            const double ca = coordinate(point(a)), cb = coordinate(point(b));
+            return ca < cb || (ca == cb && a < b);
+          });
+        ranges.emplace_back(range.first + half, range.second - half);
+        ranges.emplace_back(range.first, half);
+        continue;
+      }
+      ReceiverCluster cluster;
+      cluster.Centre = (low + high) * 0.5;
+      cluster.Normal = normals[g];
+      cluster.First = range.first;
+      cluster.Count = range.second;
+      cluster.Surface = first->first;
+      double nearest = HUGE_VAL;
+      for (auto it = first; it != last; ++it)
+      {
+        const double r = Length(point(*it) - cluster.Centre);
+        cluster.Radius = std::max(cluster.Radius, r);
+        cluster.Surface = it->first == cluster.Surface ? cluster.Surface : -1;
+        if (r < nearest)
+        {
+          nearest = r;
+          cluster.Origins[0] = static_cast<int>(it - this->ClusterPoints.begin());
+        }
+      }
+      cluster.OriginCount = 1;
+      while (cluster.OriginCount < std::min(ClusterOrigins, cluster.Count))
+      {
+        double farthest = -1.0;
+        int chosen = cluster.Origins[0];
+        for (auto it = first; it != last; ++it)
+        {
+          double distance = HUGE_VAL;
+          for (int o = 0; o < cluster.OriginCount; ++o)
+          {
+            distance = std::min(
+              distance, SquaredLength(point(*it) - point(this->ClusterPoints[cluster.Origins[o]])));
+          }
+          if (distance > farthest)
+          {
+            farthest = distance;
+            chosen = static_cast<int>(it - this->ClusterPoints.begin());
+          }
+        }
+        cluster.Origins[cluster.OriginCount++] = chosen;
+      }
+      this->Clusters.push_back(cluster);
+    }
+  }
+}
+
+/**
+ * The fast method at every point of a receiver cluster: point p of surface
+ * i goes to irradiance[firstItem[i] + p], and is skipped if firstItem[i] < 0.
+ * Nodes far from the whole cluster (radius < OpeningAngle * (distance to
+ * its centre - its radius)) and in front of all its points are found once
+ * and tested for visibility from the cluster's origin point, refined as in
+ * EvaluateFast; each visible one is expanded at every point. The rest of
+ * the hierarchy, where the cluster is too big for a node, is evaluated
+ * point by point.
+ */
+void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
+  const ReceiverCluster& cluster, const RayCaster& caster, const std::vector<long long>& firstItem,
+  ChunkWorkspace& ws, RGB* irradiance, long long& rays) const
+{
+  bool any = false;
+  for (int k = 0; k < cluster.Count && !any; ++k)
+  {
+    any = firstItem[this->ClusterPoints[cluster.First + k].first] >= 0;
+  }
+  if (!any)
+  {
+    return;
+  }
+  const double theta = shot.OpeningAngle;
+  const Vec3& centre = cluster.Centre;
+  const double spread = cluster.Radius;
+  const auto far = [&](const Node& node) {
+    const double distance = Length(node.Centroid - centre) - spread;
+    return distance > 0.0 && node.Radius < theta * distance;
+  };
+  // 1. The cut for the whole cluster. A node neither far from all of it nor
+  // opened at its centre (where a point there would open it) goes to the
+  // points, which would mostly take it whole.
+  ws.Roots.clear();
+  ws.Current.clear();
+  ws.Stack.assign(1, 0);
+  while (!ws.Stack.empty())
+  {
+    const int id = ws.Stack.back();
+    ws.Stack.pop_back();
+    const Node& node = shot.Nodes[id];
+    if (cluster.Surface >= 0 && node.Surface == cluster.Surface)
+    {
+      continue; // a plane does not light itself
+    }
+    const Side side = SideOf(node, centre, spread);
+    if (side == Side::Behind)
+    {
+      continue;
+    }
+    if (side == Side::Front && far(node))
+    {
+      ws.Current.push_back(id);
+    }
+    else if (node.Left >= 0 &&
+      (node.Radius * node.Radius >= theta * theta * SquaredLength(node.Centroid - centre) ||
+        SideOf(node, centre) == Side::Straddle))
+    {
+      ws.Stack.push_back(node.Right);
+      ws.Stack.push_back(node.Left);
+    }
+    else
+    {
+      ws.Roots.push_back(id);
+    }
+  }
+  // 2. Visibility of the far nodes, by rays from each of the cluster's
+  // origins. Where they agree they decide for the whole cluster (refined
+  // as in EvaluateFast where a node's children disagree); where they do
+  // not, a shadow edge crosses the cluster and the node goes to the points.
+  ws.Visible.clear();
+  const int origins = cluster.OriginCount;
+  ws.Flags.clear();
+  while (!ws.Current.empty())
+  {
+    ws.Targets.clear();
+    ws.TargetSurfaces.clear();
+    for (const int id : ws.Current)
+    {
+      const Node& node = shot.Nodes[id];
+      if (node.Left < 0)
+      {
+        ws.Targets.push_back(node.Target);
+        ws.TargetSurfaces.push_back(node.TargetSurface);
+        continue;
+      }
+      for (const int child : { node.Left, node.Right })
+      {
+        ws.Targets.push_back(shot.Nodes[child].Target);
+        ws.TargetSurfaces.push_back(shot.Nodes[child].TargetSurface);
+      }
+    }
+    // Per target: bit o set if visible from origin o.
+    ws.Flags.assign(ws.Targets.size(), 0);
+    for (int o = 0; o < origins; ++o)
+    {
+      const std::pair<int, int>& from = this->ClusterPoints[cluster.Origins[o]];
+      TraceTargets(caster, this->RayOrigins[from.first][from.second], from.first, ws);
+      rays += static_cast<long long>(ws.Targets.size());
+      for (std::size_t t = 0; t < ws.Targets.size(); ++t)
+      {
+        ws.Flags[t] |= ws.Occluded[t] ? 0 : (1 << o);
+      }
+    }
+    const unsigned char all = static_cast<unsigned char>((1 << origins) - 1);
+    ws.Next.clear();
+    int ray = 0;
+    for (const int id : ws.Current)
+    {
+      const Node& node = shot.Nodes[id];
+      if (node.Left < 0)
+      {
+        const unsigned char flags = ws.Flags[ray++];
+        if (flags == all)
+        {
+          ws.Visible.push_back(id);
+        }
+        else if (flags != 0)
+        {
+          ws.Roots.push_back(id);
+        }
+        continue;
+      }
+      const unsigned char left = ws.Flags[ray++];
+      const unsigned char right = ws.Flags[ray++];
+      if (left == right && (left == 0 || left == all))
+      {
+        if (left == all)
+        {
+          ws.Visible.push_back(id);
+        }
+        continue;
+      }
+      const int children[2] = { node.Left, node.Right };
+      const unsigned char flags[2] = { left, right };
+      for (int c = 0; c < 2; ++c)
+      {
+        const Node& child = shot.Nodes[children[c]];
+        if (flags[c] != 0 && flags[c] != all)
+        {
+          ws.Roots.push_back(children[c]);
+        }
+        else if (child.Left >= 0)
+        {
+          ws.Next.push_back(children[c]);
+        }
+        else if (!far(child))
+        {
+          ws.Roots.push_back(children[c]);
+        }
+        else if (flags[c] == all)
+        {
+          ws.Visible.push_back(children[c]);
+        }
+      }
+    }
+    std::swap(ws.Current, ws.Next);
+  }
+  // 3. Every point: the visible far nodes' expansions, and the rest on its own.
+  for (int k = 0; k < cluster.Count; ++k)
+  {
+    const std::pair<int, int>& p = this->ClusterPoints[cluster.First + k];
+    const Vec3& x = this->EvaluationPoints[p.first][p.second];
+    if (firstItem[p.first] < 0)
+    {
+      continue;
+    }
+    RGB& out = irradiance[firstItem[p.first] + p.second];
+    if (!shot.Mixed && !(Dot(shot.Normal, x) - shot.Offset > 0.0))
+    {
+      out = RGB();
+      continue;
+    }
+    const Vec3& n = this->Occluders().GetPolygon(p.first).Normal;
+    RGB sum;
+    for (const int id : ws.Visible)
+    {
+      sum += this->NodeIrradiance(shot, shot.Nodes[id], x, n);
+    }
+    if (!ws.Roots.empty())
+    {
+      sum += this->EvaluateFast(
+        shot, x, this->RayOrigins[p.first][p.second], n, p.first, ws.Roots, caster, ws, rays);
+    }
+    out = { std::max(sum.R, 0.0), std::max(sum.G, 0.0), std::max(sum.B, 0.0) };
+  }
 }
 
 RGB ProgressiveShooter::Internal::NodeIrradiance(
@@ -1335,6 +1729,8 @@ void ProgressiveShooter::SetSettings(const ProgressiveShooterSettings& settings)
   settings.Validate();
   const bool moved = settings.BoundaryOffset != this->P->Settings.BoundaryOffset ||
     settings.RayOriginOffset != this->P->Settings.RayOriginOffset;
+  this->P->ClustersValid = this->P->ClustersValid && !moved &&
+    settings.ReceiverClusterSize == this->P->Settings.ReceiverClusterSize;
   this->P->Settings = settings;
   if (moved)
   {
@@ -1417,6 +1813,7 @@ void ProgressiveShooter::SetSurfaceSamples(int surfaceId, SurfaceSamples samples
   }
   I.Samples[surfaceId] = std::move(samples);
   I.UpdateEvaluationPoints(surfaceId);
+  I.ClustersValid = false;
   const SurfaceSamples& s = I.Samples[surfaceId];
   I.UnshotPower[surfaceId] = IntegrateLinear(s, areas, s.Unshot) * Pi;
   I.EnergyValid = false;
@@ -1638,7 +2035,39 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
     record.Samples = static_cast<long long>(items);
     std::vector<RGB> irradiance(items);
     std::vector<long long> rays(method == ShotMethod::Fast ? items : 0);
-    if (items > 0)
+    const bool clustered = method == ShotMethod::Fast && I.Settings.ReceiverClusterSize > 1;
+    if (items > 0 && clustered)
+    {
+      if (!I.ClustersValid)
+      {
+        I.BuildClusters();
+      }
+      std::vector<long long> firstItem(I.Samples.size(), -1);
+      for (const Receiver& rec : receivers)
+      {
+        firstItem[rec.Id] = static_cast<long long>(rec.First);
+      }
+      const RayCaster& caster = I.Caster();
+      std::vector<long long> clusterRays(I.Clusters.size(), 0);
+      const auto body = [&](std::size_t begin, std::size_t end) {
+        ChunkWorkspace ws;
+        for (std::size_t c = begin; c < end; ++c)
+        {
+          I.EvaluateCluster(
+            shot, I.Clusters[c], caster, firstItem, ws, irradiance.data(), clusterRays[c]);
+        }
+      };
+      if (I.Loop)
+      {
+        I.Loop(0, I.Clusters.size(), body);
+      }
+      else
+      {
+        body(0, I.Clusters.size());
+      }
+      rays = std::move(clusterRays);
+    }
+    else if (items > 0)
     {
       const RayCaster* caster = method == ShotMethod::Fast ? &I.Caster() : nullptr;
       // Work item -> receiver by binary search on First.

@@ -100,6 +100,29 @@
  * orientations 10 shots, RMS 1.05 % against all shots exact; same-normal
  * groups only 57 shots, 1.28 %; single shots 70, 1.20 %.
  *
+ * Receiver clusters (ReceiverClusterSize). Fast shots evaluate the
+ * receiving points in clusters: the points of each plane (coplanar
+ * surfaces together) are split at the median of their longest extent until
+ * a cluster has at most ReceiverClusterSize points and is at most
+ * sqrt(ReceiverClusterSize) point spacings wide. For each cluster (centre
+ * x_c, radius rho) the hierarchy is cut once: a node in front of the whole
+ * cluster with radius R < OpeningAngle * (|c - x_c| - rho) is far from
+ * every point; its visibility is tested by rays from four of the cluster's
+ * points (the one nearest x_c, then each the farthest from those before),
+ * refined through the children as above. Where the four agree they decide
+ * for every point, and the node's expansion is evaluated at each point with
+ * its own position; where they disagree (a shadow edge crosses the
+ * cluster) the node goes to the points. Nodes a point at x_c would open are
+ * opened for the cluster; the rest go to the points, each evaluating them
+ * as a single point would. Measured: Cornell box 10x10 meshes, all fast,
+ * against every point on its own: RMS 0.6 %, largest 9 % of the mean
+ * indirect radiance (TestProgressiveShooter); 4x4 meshes against all
+ * exact: RMS 1.16 % (1.28 % without); box_room(100) on 30,000 points,
+ * across orientations: shooter 74 s instead of 94 s. Clusters of points
+ * with one normal but on different planes (a box's top and the floor
+ * around it) were tried: 2.5 % RMS, 130 % largest, as the four rays can
+ * all start on one of the planes.
+ *
  * Boundary samples. A sample on the boundary of its mesh (an incident edge
  * used by one triangle: the surface's outline, and both copies of a point on
  * an order-0 line) is evaluated at the point moved toward the centroid of its
@@ -236,6 +259,12 @@ struct ProgressiveShooterSettings
   /// Southwell's order skips the surfaces that matter little: measured
   /// slower on a 32-polygon room (55 s against 21 s). [false]
   bool GroupAcrossOrientations = false;
+  /// Fast method: receiving points are evaluated in clusters of at most
+  /// this many points facing the same way (see "Receiver clusters" in the
+  /// file comment): a node of the shooter's hierarchy far from the whole
+  /// cluster is tested by one ray from the cluster, not one per point.
+  /// 0 or 1 evaluates every point on its own. [16], in [0, 4096]
+  int ReceiverClusterSize = 16;
   /// Fast method: shooter triangles whose longest edge exceeds this
   /// fraction of the shooter's diameter are split in four, recursively,
   /// before the hierarchy is built: it bounds the size of the leaves, hence

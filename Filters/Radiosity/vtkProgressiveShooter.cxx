@@ -66,6 +66,7 @@ int vtkProgressiveShooter::RequestData(
   settings.CoarseShotFraction = this->CoarseShotFraction;
   settings.GroupWeakShots = this->GroupWeakShots;
   settings.GroupAcrossOrientations = this->GroupAcrossOrientations;
+  settings.ReceiverClusterSize = this->ReceiverClusterSize;
 
   // Per surface: its samples in local numbering; global ids to write back.
   std::unordered_map<int, penumbra::SurfaceSamples> bySurface;
@@ -251,5 +252,6 @@ void vtkProgressiveShooter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GroupWeakShots: " << (this->GroupWeakShots ? "On" : "Off") << "\n";
   os << indent << "GroupAcrossOrientations: " << (this->GroupAcrossOrientations ? "On" : "Off")
      << "\n";
+  os << indent << "ReceiverClusterSize: " << this->ReceiverClusterSize << "\n";
   os << indent << "MaximumIndirectSamples: " << this->MaximumIndirectSamples << "\n";
 }

@@ -124,6 +124,20 @@ public:
 
   ///@{
   /**
+   * Fast shots evaluate the receiving points in clusters of at most this
+   * many points facing the same way: a node of the shooter's hierarchy far
+   * from the whole cluster is tested by rays from four of its points, not
+   * one ray per point, and where those rays disagree (a shadow edge crosses
+   * the cluster) each point tests it on its own
+   * (penumbra::ProgressiveShooterSettings::ReceiverClusterSize).
+   * Default 16, range [0, 4096]; 0 or 1 = every point on its own.
+   */
+  vtkSetClampMacro(ReceiverClusterSize, int, 0, 4096);
+  vtkGetMacro(ReceiverClusterSize, int);
+  ///@}
+
+  ///@{
+  /**
    * Largest number of samples the interreflections are computed at. When
    * the input has more samples (large scenes), the shots run on a coarse
    * level instead: a uniform lattice mesh of every surface, its spacing
@@ -157,6 +171,7 @@ protected:
   double CoarseShotFraction = 0.003;
   bool GroupWeakShots = true;
   bool GroupAcrossOrientations = false;
+  int ReceiverClusterSize = 16;
   vtkIdType MaximumIndirectSamples = 100000;
 
 private:

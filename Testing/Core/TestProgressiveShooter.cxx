@@ -512,10 +512,12 @@ struct CornellRun
 
 CornellRun RunCornell(const Scene& scene, int n, double exactFraction, double unshotFraction,
   int maximumShots, const penumbra::ParallelFor& loop, bool groupWeakShots = true,
-  bool acrossOrientations = false)
+  bool acrossOrientations = false,
+  int receiverClusterSize = ProgressiveShooterSettings().ReceiverClusterSize)
 {
   ProgressiveShooter shooter(scene);
   ProgressiveShooterSettings settings;
+  settings.ReceiverClusterSize = receiverClusterSize;
   settings.GroupWeakShots = groupWeakShots;
   settings.GroupAcrossOrientations = acrossOrientations;
   settings.UnshotFraction = unshotFraction;
@@ -634,6 +636,11 @@ void TestCornellExactVersusFast()
     scene, n, std::numeric_limits<double>::infinity(), 1e-3, 10000, TwoThreads, true, true);
   const double sweepsRms = row("inf, across orientations", sweeps);
   PENUMBRA_EXPECT(sweepsRms <= 0.02);
+  // Every point on its own (the rows above use receiver clusters of 16).
+  const CornellRun pointwise = RunCornell(
+    scene, n, std::numeric_limits<double>::infinity(), 1e-3, 10000, TwoThreads, true, false, 0);
+  const double pointwiseRms = row("inf, receiver clusters off", pointwise);
+  PENUMBRA_EXPECT(pointwiseRms <= 0.02);
   PENUMBRA_EXPECT(sweeps.Summary.Shots < fast.Summary.Shots);
   PENUMBRA_EXPECT(EnergyIdentityError(sweeps.Summary.Energy) <= 1e-6);
   int groupedShots = 0, largestGroup = 1;
@@ -751,6 +758,50 @@ double UnitSquareFormFactor(double px, double py, double h)
 {
   return CornerRectangleFormFactor(px, py, h) + CornerRectangleFormFactor(1 - px, py, h) +
     CornerRectangleFormFactor(px, 1 - py, h) + CornerRectangleFormFactor(1 - px, 1 - py, h);
+}
+
+// Receiver clusters against every point on its own, on meshes fine enough
+// for clusters to matter: the same answer up to the fast method's own
+// error, with fewer rays, thread-independent, and the energy identity.
+void TestReceiverClusters()
+{
+  const int n = 10;
+  std::printf("== receiver clusters: Cornell box, %dx%d meshes, all shots fast\n", n, n);
+  const Scene scene = penumbra::MakeBuiltinScene("cornell");
+  const double fast = std::numeric_limits<double>::infinity();
+  const CornellRun pointwise = RunCornell(scene, n, fast, 1e-3, 10000, TwoThreads, true, false, 0);
+  const auto rayCount = [](const CornellRun& run) {
+    long long rays = 0;
+    for (const penumbra::ShotRecord& r : run.Summary.History)
+    {
+      rays += r.Rays;
+    }
+    return rays;
+  };
+  std::printf("   %-14s %6s %12s %9s %11s %11s\n", "cluster size", "shots", "rays", "seconds",
+    "RMS diff", "max diff");
+  std::printf("   %-14d %6d %12lld %9.3f %11s %11s\n", 0, pointwise.Summary.Shots,
+    rayCount(pointwise), pointwise.Summary.Seconds, "reference", "");
+  for (const int size : { 16, 64 })
+  {
+    const CornellRun clustered =
+      RunCornell(scene, n, fast, 1e-3, 10000, TwoThreads, true, false, size);
+    double rms = 0.0, worst = 0.0;
+    CompareIndirect(clustered, pointwise, rms, worst);
+    std::printf("   %-14d %6d %12lld %9.3f %11.3e %11.3e\n", size, clustered.Summary.Shots,
+      rayCount(clustered), clustered.Summary.Seconds, rms, worst);
+    PENUMBRA_EXPECT(rms <= 0.01);
+    PENUMBRA_EXPECT(EnergyIdentityError(clustered.Summary.Energy) <= 1e-6);
+    if (size == 16)
+    {
+      const CornellRun serial =
+        RunCornell(scene, n, fast, 0.0, 12, penumbra::ParallelFor(), true, true, size);
+      const CornellRun threaded = RunCornell(scene, n, fast, 0.0, 12, TwoThreads, true, true, size);
+      std::printf("   12 sweeps across orientations, 1 and 2 threads: totals %s\n",
+        BitIdentical(serial.Total, threaded.Total) ? "bit-identical" : "DIFFER");
+      PENUMBRA_EXPECT(BitIdentical(serial.Total, threaded.Total));
+    }
+  }
 }
 
 void TestTwoPatches()
@@ -949,5 +1000,6 @@ int main()
   TestMirrorSymmetry();
   TestThreadIndependence();
   TestCornellExactVersusFast();
+  TestReceiverClusters();
   return penumbra::testing::Result();
 }
