@@ -212,6 +212,35 @@ void TraceTargets(const RayCaster& caster, const Vec3& origin, int receiver, Chu
     static_cast<int>(ws.Targets.size()), ws.Occluded.data(), receiver);
 }
 
+/// Queue the rays of a round of visibility tests: one to the target of
+/// each leaf of `ids` that `testLeaf` accepts, and one to the target of
+/// each child of each inner node.
+template <typename LeafTest>
+void QueueTargets(const std::vector<Node>& nodes, const std::vector<int>& ids,
+  const LeafTest& testLeaf, ChunkWorkspace& ws)
+{
+  ws.Targets.clear();
+  ws.TargetSurfaces.clear();
+  for (const int id : ids)
+  {
+    const Node& node = nodes[id];
+    if (node.Left < 0)
+    {
+      if (testLeaf(node))
+      {
+        ws.Targets.push_back(node.Target);
+        ws.TargetSurfaces.push_back(node.TargetSurface);
+      }
+      continue;
+    }
+    for (const int child : { node.Left, node.Right })
+    {
+      ws.Targets.push_back(nodes[child].Target);
+      ws.TargetSurfaces.push_back(nodes[child].TargetSurface);
+    }
+  }
+}
+
 /// The four midpoint children of a triangle with per-corner values (linear in between).
 void SplitTriangle(const Vec3 p[3], const RGB v[3], Vec3 cp[4][3], RGB cv[4][3])
 {
@@ -988,28 +1017,7 @@ RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
   };
   while (!ws.Current.empty())
   {
-    ws.Targets.clear();
-    ws.TargetSurfaces.clear();
-    for (const int id : ws.Current)
-    {
-      const Node& node = shot.Nodes[id];
-      if (node.Left < 0)
-      {
-        if (!isNear(node))
-        {
-          ws.Targets.push_back(node.Target);
-          ws.TargetSurfaces.push_back(node.TargetSurface);
-        }
-      }
-      else
-      {
-        for (const int child : { node.Left, node.Right })
-        {
-          ws.Targets.push_back(shot.Nodes[child].Target);
-          ws.TargetSurfaces.push_back(shot.Nodes[child].TargetSurface);
-        }
-      }
-    }
+    QueueTargets(shot.Nodes, ws.Current, [&](const Node& leaf) { return !isNear(leaf); }, ws);
     const int count = static_cast<int>(ws.Targets.size());
     if (count > 0)
     {
@@ -1397,23 +1405,7 @@ void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
   ws.Flags.clear();
   while (!ws.Current.empty())
   {
-    ws.Targets.clear();
-    ws.TargetSurfaces.clear();
-    for (const int id : ws.Current)
-    {
-      const Node& node = shot.Nodes[id];
-      if (node.Left < 0)
-      {
-        ws.Targets.push_back(node.Target);
-        ws.TargetSurfaces.push_back(node.TargetSurface);
-        continue;
-      }
-      for (const int child : { node.Left, node.Right })
-      {
-        ws.Targets.push_back(shot.Nodes[child].Target);
-        ws.TargetSurfaces.push_back(shot.Nodes[child].TargetSurface);
-      }
-    }
+    QueueTargets(shot.Nodes, ws.Current, [](const Node&) { return true; }, ws);
     // Per target: bit o set if visible from origin o.
     ws.Flags.assign(ws.Targets.size(), 0);
     for (int o = 0; o < origins; ++o)
