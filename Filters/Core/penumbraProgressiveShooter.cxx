@@ -212,6 +212,13 @@ void TraceTargets(const RayCaster& caster, const Vec3& origin, int receiver, Chu
     static_cast<int>(ws.Targets.size()), ws.Occluded.data(), receiver);
 }
 
+/// A non-negative radiance gives a non-negative irradiance; grazing nodes'
+/// expansions may dip below 0.
+RGB NonNegative(const RGB& e)
+{
+  return { std::max(e.R, 0.0), std::max(e.G, 0.0), std::max(e.B, 0.0) };
+}
+
 /// Queue the rays of a round of visibility tests: one to the target of
 /// each leaf of `ids` that `testLeaf` accepts, and one to the target of
 /// each child of each inner node.
@@ -626,13 +633,12 @@ struct ProgressiveShooter::Internal
     int receiver, const std::vector<int>& roots, const RayCaster& caster, ChunkWorkspace& ws,
     long long& rays) const;
 
-  /// Fast method, receiver clusters: points facing the same way (one
-  /// normal), near each other, possibly on several surfaces.
+  /// Fast method, receiver clusters: nearby points of one plane, possibly
+  /// on several (coplanar) surfaces.
   struct ReceiverCluster
   {
     Vec3 Centre;         ///< centre of the points' bounding box
     double Radius = 0.0; ///< largest distance from Centre to a point
-    Vec3 Normal;         ///< the normal of every point
     int First = 0;       ///< the points are ClusterPoints[First, First + Count)
     int Count = 0;
     int Surface = -1;    ///< the surface of every point, or -1 if several
@@ -648,6 +654,18 @@ struct ProgressiveShooter::Internal
   std::vector<ReceiverCluster> Clusters;
   std::vector<std::pair<int, int>> ClusterPoints; ///< (surface, point) of each cluster's points
   bool ClustersValid = false;
+  /// body over [0, count) through Loop (serial without one).
+  void For(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) const
+  {
+    if (this->Loop)
+    {
+      this->Loop(0, count, body);
+    }
+    else
+    {
+      body(0, count);
+    }
+  }
   void EnsureEnergy();
   void UpdateEvaluationPoints(int surfaceId);
   RGB NodeIrradiance(const Shot& shot, const Node& node, const Vec3& x, const Vec3& n) const;
@@ -964,10 +982,8 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
     return VisibleShooterIrradiance(x, n, shot.Radiance, region, shot.Normal, ws.Linear);
   }
   ws.Roots.assign(1, 0);
-  const RGB sum = this->EvaluateFast(shot, x, origin, n, receiver, ws.Roots, *caster, ws, rays);
-  // A non-negative radiance gives a non-negative irradiance; grazing nodes'
-  // expansions may dip below 0.
-  return { std::max(sum.R, 0.0), std::max(sum.G, 0.0), std::max(sum.B, 0.0) };
+  return NonNegative(
+    this->EvaluateFast(shot, x, origin, n, receiver, ws.Roots, *caster, ws, rays));
 }
 
 /// The fast method at x over the subtrees of the hierarchy rooted at
@@ -1223,21 +1239,13 @@ void ProgressiveShooter::Internal::BuildClusters()
   const auto point = [this](const std::pair<int, int>& p) -> const Vec3& {
     return this->EvaluationPoints[p.first][p.second];
   };
-  // The spacing of each surface's points, sqrt(area / points): a cluster
+  // The spacing of a surface's points, sqrt(area / points): a cluster
   // wider than sqrt(size) spacings (sparse points, e.g. small faces far
   // apart) is split further, else nothing would be far from it.
-  std::vector<double> spacing(this->Samples.size(), 0.0);
-  for (std::size_t i = 0; i < this->Samples.size(); ++i)
-  {
-    double area = 0.0;
-    for (double a : this->Areas[i])
-    {
-      area += a;
-    }
-    spacing[i] = this->Samples[i].Points.empty()
-      ? 0.0
-      : std::sqrt(area / static_cast<double>(this->Samples[i].Points.size()));
-  }
+  const auto spacing = [this](int i) {
+    return std::sqrt(this->Occluders().GetPolygon(i).Area /
+      static_cast<double>(this->EvaluationPoints[i].size()));
+  };
   for (std::size_t g = 0; g < groups.size(); ++g)
   {
     const int begin = static_cast<int>(this->ClusterPoints.size());
@@ -1257,16 +1265,13 @@ void ProgressiveShooter::Internal::BuildClusters()
       auto first = this->ClusterPoints.begin() + range.first;
       auto last = first + range.second;
       Vec3 low = point(*first), high = low;
+      double widest = 0.0;
       for (auto it = first; it != last; ++it)
       {
         const Vec3& p = point(*it);
         low = Vec3(std::min(low.X, p.X), std::min(low.Y, p.Y), std::min(low.Z, p.Z));
         high = Vec3(std::max(high.X, p.X), std::max(high.Y, p.Y), std::max(high.Z, p.Z));
-      }
-      double widest = 0.0;
-      for (auto it = first; it != last; ++it)
-      {
-        widest = std::max(widest, spacing[it->first]);
+        widest = std::max(widest, spacing(it->first));
       }
       if (range.second > size ||
         (range.second > 1 && 0.5 * Length(high - low) > std::sqrt(double(size)) * widest))
@@ -1288,7 +1293,6 @@ void ProgressiveShooter::Internal::BuildClusters()
       }
       ReceiverCluster cluster;
       cluster.Centre = (low + high) * 0.5;
-      cluster.Normal = normals[g];
       cluster.First = range.first;
       cluster.Count = range.second;
       cluster.Surface = first->first;
@@ -1335,10 +1339,10 @@ void ProgressiveShooter::Internal::BuildClusters()
  * i goes to irradiance[firstItem[i] + p], and is skipped if firstItem[i] < 0.
  * Nodes far from the whole cluster (radius < OpeningAngle * (distance to
  * its centre - its radius)) and in front of all its points are found once
- * and tested for visibility from the cluster's origin point, refined as in
- * EvaluateFast; each visible one is expanded at every point. The rest of
- * the hierarchy, where the cluster is too big for a node, is evaluated
- * point by point.
+ * and tested for visibility from the cluster's origins, refined as in
+ * EvaluateFast; each one visible from all of them is expanded at every
+ * point. The rest of the hierarchy (nodes too near, or seen by some
+ * origins only) is evaluated point by point.
  */
 void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
   const ReceiverCluster& cluster, const RayCaster& caster, const std::vector<long long>& firstItem,
@@ -1498,7 +1502,7 @@ void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
       sum += this->EvaluateFast(
         shot, x, this->RayOrigins[p.first][p.second], n, p.first, ws.Roots, caster, ws, rays);
     }
-    out = { std::max(sum.R, 0.0), std::max(sum.G, 0.0), std::max(sum.B, 0.0) };
+    out = NonNegative(sum);
   }
 }
 
@@ -2026,7 +2030,7 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
     record.Receivers = static_cast<int>(receivers.size());
     record.Samples = static_cast<long long>(items);
     std::vector<RGB> irradiance(items);
-    std::vector<long long> rays(method == ShotMethod::Fast ? items : 0);
+    std::vector<long long> rays; // per work item (fast method)
     const bool clustered = method == ShotMethod::Fast && I.Settings.ReceiverClusterSize > 1;
     if (items > 0 && clustered)
     {
@@ -2040,30 +2044,22 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
         firstItem[rec.Id] = static_cast<long long>(rec.First);
       }
       const RayCaster& caster = I.Caster();
-      std::vector<long long> clusterRays(I.Clusters.size(), 0);
-      const auto body = [&](std::size_t begin, std::size_t end) {
+      rays.assign(I.Clusters.size(), 0);
+      I.For(I.Clusters.size(), [&](std::size_t begin, std::size_t end) {
         ChunkWorkspace ws;
         for (std::size_t c = begin; c < end; ++c)
         {
           I.EvaluateCluster(
-            shot, I.Clusters[c], caster, firstItem, ws, irradiance.data(), clusterRays[c]);
+            shot, I.Clusters[c], caster, firstItem, ws, irradiance.data(), rays[c]);
         }
-      };
-      if (I.Loop)
-      {
-        I.Loop(0, I.Clusters.size(), body);
-      }
-      else
-      {
-        body(0, I.Clusters.size());
-      }
-      rays = std::move(clusterRays);
+      });
     }
     else if (items > 0)
     {
       const RayCaster* caster = method == ShotMethod::Fast ? &I.Caster() : nullptr;
+      rays.assign(method == ShotMethod::Fast ? items : 0, 0);
       // Work item -> receiver by binary search on First.
-      const auto body = [&](std::size_t begin, std::size_t end) {
+      I.For(items, [&](std::size_t begin, std::size_t end) {
         ChunkWorkspace ws;
         std::size_t r = static_cast<std::size_t>(
           std::upper_bound(receivers.begin(), receivers.end(), begin,
@@ -2087,15 +2083,7 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
             rays[item] = count;
           }
         }
-      };
-      if (I.Loop)
-      {
-        I.Loop(0, items, body);
-      }
-      else
-      {
-        body(0, items);
-      }
+      });
     }
     // The members' unshot radiance has been shot (before the updates: in a
     // group facing several ways members also receive).
