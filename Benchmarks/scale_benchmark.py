@@ -5,7 +5,7 @@ boxes (penumbra.generators.box_room) of N polygons.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
         Benchmarks/scale_benchmark.py [--sizes 1000 5000 20000] [--threads 2] \\
-        [--indirect-samples N] [--across]
+        [--indirect-samples N] [--no-reuse]
 
 Each size runs in its own process (so peak memory is that solve's alone):
 penumbra.solve(scene, unshot_fraction=0.01), i.e. direct light plus
@@ -15,9 +15,9 @@ points shot on, shots)
 and the least-squares growth exponents of time and memory against the
 number of polygons, and draws a log-log chart into --out
 (default build/benchmarks). Targets (issue 8): 20,000 polygons in under
-5 minutes and 4 GB on 2 cores. --indirect-samples and --across set the
-solver's MaximumIndirectSamples and GroupAcrossOrientations (the
-large-scene settings of the README).
+5 minutes and 4 GB on 2 cores. --indirect-samples sets the solver's
+MaximumIndirectSamples; --no-reuse turns its ReuseTransport off (weak
+shots one orientation at a time, each tracing its rays).
 """
 import argparse
 import json
@@ -75,16 +75,16 @@ def main():
     parser.add_argument("--out", default=os.path.join(os.path.dirname(HERE), "build", "benchmarks"))
     parser.add_argument("--indirect-samples", type=int,
                         help="MaximumIndirectSamples (default: the solver's)")
-    parser.add_argument("--across", action="store_true",
-                        help="GroupAcrossOrientations on (default: the solver's, off)")
+    parser.add_argument("--no-reuse", action="store_true",
+                        help="ReuseTransport off (default: the solver's, on)")
     parser.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child is not None:
         settings = {}
         if args.indirect_samples is not None:
             settings["indirect_samples"] = args.indirect_samples
-        if args.across:
-            settings["group_across_orientations"] = True
+        if args.no_reuse:
+            settings["reuse_transport"] = False
         run_child(args.child, args.threads, args.seed, settings)
         return 0
 
@@ -97,8 +97,8 @@ def main():
                    "--threads", str(args.threads), "--seed", str(args.seed)]
         if args.indirect_samples is not None:
             command += ["--indirect-samples", str(args.indirect_samples)]
-        if args.across:
-            command.append("--across")
+        if args.no_reuse:
+            command.append("--no-reuse")
         try:
             done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                   universal_newlines=True, timeout=args.timeout)
@@ -139,9 +139,9 @@ def main():
                 label="peak memory, MB (slope %.2f)" % memory_exponent)
     axis.axhline(TARGET_SECONDS, color="C0", lw=0.8, ls=":")
     axis.set_xlabel("polygons (box rooms)")
-    label = "default solve" if args.indirect_samples is None and not args.across else \
+    label = "default solve" if args.indirect_samples is None and not args.no_reuse else \
         "indirect samples %s%s" % (args.indirect_samples or "default",
-                                   ", across orientations" if args.across else "")
+                                   ", transport not reused" if args.no_reuse else "")
     axis.set_title("%s, %d threads, unshot 1%%" % (label, args.threads))
     axis.legend()
     axis.grid(True, which="both", alpha=0.3)

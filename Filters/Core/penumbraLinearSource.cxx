@@ -254,7 +254,13 @@ IrradianceMoments OrientedMoments(
   // First moment about the foot p0 = x + h w (in-plane), then the centroid.
   const Vec3 firstInPlane = j1 * (h * h * nw) + j2 * h + a * (0.5 * h * logArea);
   result.FormFactor = formFactor;
-  result.Centroid = x + w * h + firstInPlane * (orientation / (Pi * formFactor));
+  const Vec3 centroid = x + w * h + firstInPlane * (orientation / (Pi * formFactor));
+  // With x at a vertex within rounding of the plane (a box's corner on the
+  // floor), the edge integrals meet 0 / 0; F is then tiny, and the vertex
+  // mean stands in for the centroid.
+  const bool finite =
+    std::isfinite(centroid.X) && std::isfinite(centroid.Y) && std::isfinite(centroid.Z);
+  result.Centroid = finite ? centroid : centre;
   return result;
 }
 

@@ -99,19 +99,57 @@ struct Symmetric
   double Trace() const { return XX + YY + ZZ; }
 };
 
+/// Moments of a radiance L over a set of triangles about an origin o, per
+/// channel c; sums over sets add.
+struct RawMoments
+{
+  RGB Power;           ///< int L_c dA
+  Vec3 First[3];       ///< int L_c (y - o) dA
+  Symmetric Second[3]; ///< int L_c (y - o)(y - o)^T dA
+
+  /// Add `scale` times o's moments.
+  void Add(const RawMoments& o, double scale = 1.0)
+  {
+    Power += o.Power * scale;
+    for (int c = 0; c < 3; ++c)
+    {
+      First[c] += o.First[c] * scale;
+      Symmetric s = o.Second[c];
+      s.XX *= scale;
+      s.YY *= scale;
+      s.ZZ *= scale;
+      s.XY *= scale;
+      s.XZ *= scale;
+      s.YZ *= scale;
+      Second[c] += s;
+    }
+  }
+
+  /// The moments about o + e: D = S1 - P e, M = S2 - (e S1^T + S1 e^T) + P e e^T.
+  void Central(const Vec3& e, Vec3 dipole[3], Symmetric quadrupole[3]) const
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      dipole[c] = First[c] - e * Power[c];
+      quadrupole[c] = Second[c];
+      quadrupole[c].AddOuter(e, First[c], -2.0);
+      quadrupole[c].AddOuter(e, e, Power[c]);
+    }
+  }
+};
+
 /// One leaf of the fast method's hierarchy: a (piece of a) shooter triangle,
 /// with the moments of its unshot radiance about the shooter's origin o.
 struct Leaf
 {
   Vec3 Points[3];
   RGB Values[3]; ///< unshot radiance at the points (linear in between)
-  RGB Power;     ///< integral of the unshot radiance over the triangle, per channel
-  Vec3 First[3]; ///< int L_c (y - o) dA per channel c
-  Symmetric Second[3]; ///< int L_c (y - o)(y - o)^T dA per channel c
+  RawMoments Moments; ///< about o
   double Area = 0.0;
   Vec3 Centroid; ///< power-weighted (mean channel), area centroid as a fallback
   double Weight = 0.0; ///< scalar power (mean of RGB)
   int Surface = -1;    ///< the shooter it is a piece of
+  int Triangle = -1;   ///< the sample triangle of that shooter it is a piece of
   Vec3 Normal;         ///< the front normal of that shooter
 };
 
@@ -185,6 +223,28 @@ struct Piece
   int Depth;
 };
 
+/// A leaf lighting a point at close range, recorded for the transport: the
+/// irradiance is W.R u_0 + W.G u_1 + W.B u_2 for the unshot radiance u_k at
+/// the corners of the leaf's sample triangle.
+struct NearWeight
+{
+  int Leaf;
+  RGB W;
+};
+
+/// The recorded transport to the points of one receiver cluster: what the
+/// fast method used at each point (the cut of the hierarchy, the
+/// visibility of its nodes and of the near pieces), so that a later sweep
+/// only re-weights it.
+struct TransportUnit
+{
+  std::vector<int> Shared;  ///< visible nodes far from every point, expanded at each
+  std::vector<int> Nodes;   ///< visible nodes of each point, one after the other
+  std::vector<int> NodeEnd; ///< per point: end of its nodes in Nodes
+  std::vector<NearWeight> Near;
+  std::vector<int> NearEnd; ///< per point: end of its near leaves in Near
+};
+
 /// Scratch memory of one chunk of a shot's parallel loop.
 struct ChunkWorkspace
 {
@@ -197,6 +257,7 @@ struct ChunkWorkspace
   std::vector<int> Next;
   std::vector<Vec3> Targets;
   std::vector<int> TargetSurfaces; ///< the surface each target lies on (ignored by its ray), or -1
+  std::vector<int> TargetLeaves;   ///< near pieces: the leaf each target lies on
   std::vector<unsigned char> Occluded;
   std::vector<int> Roots;   ///< receiver cluster: nodes each point handles on its own
   std::vector<int> Visible; ///< receiver cluster: visible nodes far from every point
@@ -293,8 +354,8 @@ Leaf MakeLeaf(const Vec3 p[3], const RGB v[3], const Vec3& origin)
     leaf.Values[k] = v[k];
   }
   leaf.Area = 0.5 * Length(Cross(p[1] - p[0], p[2] - p[0]));
-  leaf.Power = (v[0] + v[1] + v[2]) * (leaf.Area / 3.0);
-  leaf.Weight = leaf.Power.Mean();
+  leaf.Moments.Power = (v[0] + v[1] + v[2]) * (leaf.Area / 3.0);
+  leaf.Weight = leaf.Moments.Power.Mean();
   leaf.Centroid = PowerCentroid(p, v);
   // Exact moments of a linear L = sum_k L_k lambda_k over the triangle, with
   // y - o = sum_i q_i lambda_i: int lambda_i lambda_k dA = A/12 (1 + [i=k]),
@@ -307,12 +368,12 @@ Leaf MakeLeaf(const Vec3 p[3], const RGB v[3], const Vec3& origin)
     {
       for (int k = 0; k < 3; ++k)
       {
-        leaf.First[c] += q[i] * (v[k][c] * leaf.Area / 12.0 * (i == k ? 2.0 : 1.0));
+        leaf.Moments.First[c] += q[i] * (v[k][c] * leaf.Area / 12.0 * (i == k ? 2.0 : 1.0));
         for (int j = 0; j < 3; ++j)
         {
           const int equal = (i == j) + (j == k) + (i == k);
           const double w = equal == 0 ? 1.0 / 60.0 : (equal == 1 ? 1.0 / 30.0 : 1.0 / 10.0);
-          leaf.Second[c].AddOuter(q[i], q[j], v[k][c] * leaf.Area * w);
+          leaf.Moments.Second[c].AddOuter(q[i], q[j], v[k][c] * leaf.Area * w);
         }
       }
     }
@@ -352,18 +413,12 @@ Node Aggregate(const Leaf* const* leaves, int count, const Vec3& origin, AxisMom
   double area = 0.0;
   Vec3 weighted;
   Vec3 areaWeighted;
-  Vec3 firstMoment[3];
-  Symmetric secondMoment[3];
+  RawMoments raw;
   for (int k = 0; k < count; ++k)
   {
     const Leaf& leaf = *leaves[k];
-    node.Power += leaf.Power;
+    raw.Add(leaf.Moments);
     area += leaf.Area;
-    for (int c = 0; c < 3; ++c)
-    {
-      firstMoment[c] += leaf.First[c];
-      secondMoment[c] += leaf.Second[c];
-    }
     weight += leaf.Weight;
     absWeight += std::abs(leaf.Weight);
     weighted += leaf.Centroid * leaf.Weight;
@@ -372,16 +427,8 @@ Node Aggregate(const Leaf* const* leaves, int count, const Vec3& origin, AxisMom
   // Power-weighted centroid; the area centroid when the power nearly cancels.
   node.Centroid =
     (weight > 1e-9 * absWeight && weight > 0.0) ? weighted / weight : areaWeighted / area;
-  // Moments about the centroid: with e = c - o, D = S1 - P e and
-  // M = S2 - (e S1^T + S1 e^T) + P e e^T.
-  const Vec3 e = node.Centroid - origin;
-  for (int c = 0; c < 3; ++c)
-  {
-    node.Dipole[c] = firstMoment[c] - e * node.Power[c];
-    node.Quadrupole[c] = secondMoment[c];
-    node.Quadrupole[c].AddOuter(e, firstMoment[c], -2.0);
-    node.Quadrupole[c].AddOuter(e, e, node.Power[c]);
-  }
+  node.Power = raw.Power;
+  raw.Central(node.Centroid - origin, node.Dipole, node.Quadrupole);
   for (int k = 0; k < count; ++k)
   {
     for (const Vec3& p : leaves[k]->Points)
@@ -420,33 +467,13 @@ Node Aggregate(const Leaf* const* leaves, int count, const Vec3& origin, AxisMom
     *mixed = AxisMoments();
     for (int i = 0; i < 3; ++i)
     {
-      Vec3 first[3];
-      Symmetric second[3];
+      RawMoments axisRaw;
       for (int k = 0; k < count; ++k)
       {
-        const Leaf& leaf = *leaves[k];
-        const double m = leaf.Normal[i];
-        mixed->Power[i] += leaf.Power * m;
-        for (int c = 0; c < 3; ++c)
-        {
-          first[c] += leaf.First[c] * m;
-          Symmetric scaled = leaf.Second[c];
-          scaled.XX *= m;
-          scaled.YY *= m;
-          scaled.ZZ *= m;
-          scaled.XY *= m;
-          scaled.XZ *= m;
-          scaled.YZ *= m;
-          second[c] += scaled;
-        }
+        axisRaw.Add(leaves[k]->Moments, leaves[k]->Normal[i]);
       }
-      for (int c = 0; c < 3; ++c)
-      {
-        mixed->Dipole[i][c] = first[c] - e * mixed->Power[i][c];
-        mixed->Quadrupole[i][c] = second[c];
-        mixed->Quadrupole[i][c].AddOuter(e, first[c], -2.0);
-        mixed->Quadrupole[i][c].AddOuter(e, e, mixed->Power[i][c]);
-      }
+      mixed->Power[i] = axisRaw.Power;
+      axisRaw.Central(node.Centroid - origin, mixed->Dipole[i], mixed->Quadrupole[i]);
     }
   }
   return node;
@@ -607,6 +634,7 @@ struct ProgressiveShooter::Internal
     std::vector<AxisMoments> Moments; ///< fast method: of the nodes facing several ways
     bool Mixed = false; ///< a group shot of surfaces facing different ways
     double OpeningAngle = 0.3; ///< fast method: this shot's opening angle
+    Vec3 Origin; ///< fast method: the leaves' moments are about this point
   };
 
   const OccluderSet& Occluders() const { return this->Exact.GetOccluders(); }
@@ -621,17 +649,21 @@ struct ProgressiveShooter::Internal
   }
 
   void PrepareShot(int j, ShotMethod method, Shot& shot) const;
-  void PrepareGroupShot(const std::vector<int>& members, Shot& shot) const;
-  void AddLeaves(int j, const Vec3& origin, double size, std::vector<Leaf>& leaves) const;
+  void PrepareGroupShot(const std::vector<int>& members, Shot& shot,
+    std::vector<std::array<RGB, 3>>* basis = nullptr) const;
+  Leaf Reweighted(const Leaf& leaf, const std::array<RGB, 3>& basis, const Vec3& origin) const;
+  void AddLeaves(
+    int j, const Vec3& origin, double size, bool basis, std::vector<Leaf>& leaves) const;
   int BuildNode(const std::vector<Leaf>& leaves, std::vector<int>& order, int first, int count,
     const Vec3& origin, Shot& shot) const;
-  ShotRecord ShootSurfaces(const std::vector<int>& members, ShotMethod method, double reference);
+  ShotRecord ShootSurfaces(
+    const std::vector<int>& members, ShotMethod method, double reference, bool sweep = false);
   RGB Evaluate(const Shot& shot, const Vec3& x, const Vec3& origin, const Vec3& n, int receiver,
     const std::vector<int>* candidates, const RayCaster* caster, ChunkWorkspace& ws,
     long long& rays) const;
   RGB EvaluateFast(const Shot& shot, const Vec3& x, const Vec3& origin, const Vec3& n,
     int receiver, const std::vector<int>& roots, const RayCaster& caster, ChunkWorkspace& ws,
-    long long& rays) const;
+    long long& rays, TransportUnit* record = nullptr) const;
 
   /// Fast method, receiver clusters: nearby points of one plane, possibly
   /// on several (coplanar) surfaces.
@@ -650,10 +682,31 @@ struct ProgressiveShooter::Internal
   void BuildClusters();
   void EvaluateCluster(const Shot& shot, const ReceiverCluster& cluster, const RayCaster& caster,
     const std::vector<long long>& firstItem, ChunkWorkspace& ws, RGB* irradiance,
-    long long& rays) const;
+    long long& rays, TransportUnit* record = nullptr) const;
   std::vector<ReceiverCluster> Clusters;
   std::vector<std::pair<int, int>> ClusterPoints; ///< (surface, point) of each cluster's points
   bool ClustersValid = false;
+
+  /// ReuseTransport: the group shot of every surface, refreshed with the
+  /// unshot radiance before each sweep, and what each receiver cluster
+  /// uses of it.
+  struct Transport
+  {
+    Shot Sweep;
+    std::vector<std::array<RGB, 3>> Basis; ///< per leaf: its corners' barycentric coordinates
+    std::vector<TransportUnit> Units;      ///< per receiver cluster
+    long long Rays = 0;                    ///< traced to record it
+  };
+  std::unique_ptr<Transport> Recorded; ///< null until the first sweep, and when invalidated
+  void RecordTransport();
+  struct SubtreeMoments
+  {
+    RawMoments Plain;
+    RawMoments Axis[3];
+  };
+  void RefreshNode(int id, SubtreeMoments& out);
+  void RefreshTransport();
+  void Replay(const std::vector<long long>& firstItem, RGB* irradiance) const;
   /// body over [0, count) through Loop (serial without one).
   void For(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) const
   {
@@ -697,6 +750,7 @@ void ProgressiveShooter::Internal::PrepareShot(int j, ShotMethod method, Shot& s
   shot.Method = method;
   shot.Normal = poly.Normal;
   shot.Offset = poly.Offset;
+  shot.Origin = poly.Centroid;
   shot.Empty = true;
   shot.Mixed = false;
   shot.Nodes.clear();
@@ -775,16 +829,21 @@ void ProgressiveShooter::Internal::PrepareShot(int j, ShotMethod method, Shot& s
 
 /// The fast method's leaves of surface j (its triangles with unshot
 /// radiance, projected onto its plane, split until no longer than `size`),
-/// moments about `origin`.
+/// moments about `origin`. With `basis`, every triangle with an area, and
+/// instead of the unshot radiance the barycentric coordinates of the
+/// triangle's corners in the three channels (the transport's leaves: a
+/// result's channels are then the weights of the three corners).
 void ProgressiveShooter::Internal::AddLeaves(
-  int j, const Vec3& origin, double size, std::vector<Leaf>& leaves) const
+  int j, const Vec3& origin, double size, bool basis, std::vector<Leaf>& leaves) const
 {
   const PreparedPolygon& poly = this->Occluders().GetPolygon(j);
   const SurfaceSamples& s = this->Samples[j];
+  const RGB corners[3] = { RGB(1.0, 0.0, 0.0), RGB(0.0, 1.0, 0.0), RGB(0.0, 0.0, 1.0) };
   for (std::size_t t = 0; t < s.Triangles.size(); ++t)
   {
     const std::array<int, 3>& tri = s.Triangles[t];
-    if ((s.Unshot[tri[0]].IsZero() && s.Unshot[tri[1]].IsZero() && s.Unshot[tri[2]].IsZero()) ||
+    if ((!basis && s.Unshot[tri[0]].IsZero() && s.Unshot[tri[1]].IsZero() &&
+          s.Unshot[tri[2]].IsZero()) ||
       !(this->Areas[j][t] > 2e-12 * poly.Diameter * poly.Diameter))
     {
       continue;
@@ -794,13 +853,14 @@ void ProgressiveShooter::Internal::AddLeaves(
     for (int k = 0; k < 3; ++k)
     {
       p[k] = s.Points[tri[k]] - poly.Normal * (Dot(poly.Normal, s.Points[tri[k]]) - poly.Offset);
-      v[k] = s.Unshot[tri[k]];
+      v[k] = basis ? corners[k] : s.Unshot[tri[k]];
     }
     const std::size_t first = leaves.size();
     SplitToLeaves(p, v, size, origin, 0, leaves);
     for (std::size_t k = first; k < leaves.size(); ++k)
     {
       leaves[k].Surface = j;
+      leaves[k].Triangle = static_cast<int>(t);
       leaves[k].Normal = poly.Normal;
     }
   }
@@ -810,7 +870,32 @@ void ProgressiveShooter::Internal::AddLeaves(
 /// ProgressiveShooterSettings::GroupWeakShots): one hierarchy over all
 /// their leaves, so that a far cluster of them costs one expansion and one
 /// ray.
-void ProgressiveShooter::Internal::PrepareGroupShot(const std::vector<int>& members, Shot& shot) const
+/// The leaf with the unshot radiance of its triangle's corners, from its
+/// corners' barycentric coordinates `basis` in that triangle.
+Leaf ProgressiveShooter::Internal::Reweighted(
+  const Leaf& leaf, const std::array<RGB, 3>& basis, const Vec3& origin) const
+{
+  const SurfaceSamples& s = this->Samples[leaf.Surface];
+  const std::array<int, 3>& tri = s.Triangles[leaf.Triangle];
+  RGB values[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    values[k] = s.Unshot[tri[0]] * basis[k].R + s.Unshot[tri[1]] * basis[k].G +
+      s.Unshot[tri[2]] * basis[k].B;
+  }
+  Leaf result = MakeLeaf(leaf.Points, values, origin);
+  result.Surface = leaf.Surface;
+  result.Triangle = leaf.Triangle;
+  result.Normal = leaf.Normal;
+  return result;
+}
+
+/// With `basis` (the transport): every triangle with an area, the
+/// hierarchy built on the current unshot radiance (power-weighted
+/// centroids), and each leaf's corners' barycentric coordinates in its
+/// triangle returned in `basis` and left as its Values (see AddLeaves).
+void ProgressiveShooter::Internal::PrepareGroupShot(
+  const std::vector<int>& members, Shot& shot, std::vector<std::array<RGB, 3>>* basis) const
 {
   shot.OpeningAngle = this->Settings.OpeningAngle;
   shot.Shooter = -1;
@@ -836,6 +921,7 @@ void ProgressiveShooter::Internal::PrepareGroupShot(const std::vector<int>& memb
   // Moments about the middle of the group keep the subtractions in
   // Aggregate well conditioned.
   const Vec3 origin = (lo + hi) * 0.5;
+  shot.Origin = origin;
   // Leaves split to LeafSize as in a single shot, unless that makes more
   // than MaximumGroupLeaves (a group may hold most of a large scene): then
   // the sample triangles themselves; near leaves are refined anyway.
@@ -857,7 +943,16 @@ void ProgressiveShooter::Internal::PrepareGroupShot(const std::vector<int>& memb
   {
     this->AddLeaves(j, origin,
       split ? this->Settings.LeafSize * this->Occluders().GetPolygon(j).Diameter : HUGE_VAL,
-      shot.Leaves);
+      basis != nullptr, shot.Leaves);
+  }
+  if (basis)
+  {
+    basis->resize(shot.Leaves.size());
+    for (std::size_t l = 0; l < shot.Leaves.size(); ++l)
+    {
+      std::copy(shot.Leaves[l].Values, shot.Leaves[l].Values + 3, (*basis)[l].begin());
+      shot.Leaves[l] = this->Reweighted(shot.Leaves[l], (*basis)[l], origin);
+    }
   }
   if (shot.Leaves.empty())
   {
@@ -871,6 +966,13 @@ void ProgressiveShooter::Internal::PrepareGroupShot(const std::vector<int>& memb
   }
   shot.Nodes.reserve(2 * shot.Leaves.size());
   this->BuildNode(shot.Leaves, order, 0, static_cast<int>(shot.Leaves.size()), origin, shot);
+  if (basis)
+  {
+    for (std::size_t l = 0; l < shot.Leaves.size(); ++l)
+    {
+      std::copy((*basis)[l].begin(), (*basis)[l].end(), shot.Leaves[l].Values);
+    }
+  }
 }
 
 int ProgressiveShooter::Internal::BuildNode(const std::vector<Leaf>& leaves,
@@ -990,7 +1092,7 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
 /// `roots` (the root alone for the whole shooter). Unclamped.
 RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
   const Vec3& origin, const Vec3& n, int receiver, const std::vector<int>& roots,
-  const RayCaster& caster, ChunkWorkspace& ws, long long& rays) const
+  const RayCaster& caster, ChunkWorkspace& ws, long long& rays, TransportUnit* record) const
 {
   // 1. Cut the hierarchy where nodes look small from x.
   const double theta = shot.OpeningAngle;
@@ -1027,6 +1129,16 @@ RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
   // handled the same way, in the next round. Rays of a round are traced
   // together. Near leaves (radius >= OpeningAngle * distance) go to step 3.
   RGB sum;
+  const auto take = [&](int id) {
+    if (record)
+    {
+      record->Nodes.push_back(id);
+    }
+    else
+    {
+      sum += this->NodeIrradiance(shot, shot.Nodes[id], x, n);
+    }
+  };
   ws.Near.clear();
   const auto isNear = [&](const Node& node) {
     return node.Radius * node.Radius >= theta * theta * SquaredLength(node.Centroid - x);
@@ -1053,7 +1165,7 @@ RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
         }
         else if (!ws.Occluded[ray++])
         {
-          sum += this->NodeIrradiance(shot, node, x, n);
+          take(id);
         }
         continue;
       }
@@ -1063,7 +1175,7 @@ RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
       {
         if (left)
         {
-          sum += this->NodeIrradiance(shot, node, x, n);
+          take(id);
         }
         continue;
       }
@@ -1083,7 +1195,7 @@ RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
         }
         else if (visible[c])
         {
-          sum += this->NodeIrradiance(shot, child, x, n);
+          take(children[c]);
         }
       }
     }
@@ -1100,6 +1212,7 @@ RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
   // instead of one ray per leaf deciding for all.
   ws.Targets.clear();
   ws.TargetSurfaces.clear();
+  ws.TargetLeaves.clear();
   ws.Weights.clear();
   const double originShift = Length(origin - x);
   const double offset = Dot(n, x);
@@ -1152,6 +1265,7 @@ RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
           ws.Targets.push_back(node.Centroid);
           ws.Weights.push_back(e);
           ws.TargetSurfaces.push_back(leaf.Surface);
+          ws.TargetLeaves.push_back(index);
         }
         continue;
       }
@@ -1173,6 +1287,7 @@ RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
         ws.Targets.push_back(target / static_cast<double>(count));
         ws.Weights.push_back(e);
         ws.TargetSurfaces.push_back(leaf.Surface);
+        ws.TargetLeaves.push_back(index);
       }
     }
   }
@@ -1183,7 +1298,11 @@ RGB ProgressiveShooter::Internal::EvaluateFast(const Shot& shot, const Vec3& x,
     rays += count;
     for (int k = 0; k < count; ++k)
     {
-      if (!ws.Occluded[k])
+      if (!ws.Occluded[k] && record)
+      {
+        record->Near.push_back({ ws.TargetLeaves[k], ws.Weights[k] });
+      }
+      else if (!ws.Occluded[k])
       {
         sum += ws.Weights[k];
       }
@@ -1197,11 +1316,8 @@ void ProgressiveShooter::Internal::BuildClusters()
   this->Clusters.clear();
   this->ClusterPoints.clear();
   this->ClustersValid = true;
-  const int size = this->Settings.ReceiverClusterSize;
-  if (size <= 1)
-  {
-    return;
-  }
+  // ReuseTransport records per cluster: single points stand for no clusters.
+  const int size = std::max(1, this->Settings.ReceiverClusterSize);
   // Surfaces grouped by plane (normals within 1e-6, offsets within 1e-6 of
   // the diameters), in id order: points of one plane see past the same
   // occluders; a box's top and the floor around it do not.
@@ -1346,7 +1462,7 @@ void ProgressiveShooter::Internal::BuildClusters()
  */
 void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
   const ReceiverCluster& cluster, const RayCaster& caster, const std::vector<long long>& firstItem,
-  ChunkWorkspace& ws, RGB* irradiance, long long& rays) const
+  ChunkWorkspace& ws, RGB* irradiance, long long& rays, TransportUnit* record) const
 {
   bool any = false;
   for (int k = 0; k < cluster.Count && !any; ++k)
@@ -1477,10 +1593,26 @@ void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
     std::swap(ws.Current, ws.Next);
   }
   // 3. Every point: the visible far nodes' expansions, and the rest on its own.
+  if (record)
+  {
+    record->Shared = ws.Visible;
+  }
   for (int k = 0; k < cluster.Count; ++k)
   {
     const std::pair<int, int>& p = this->ClusterPoints[cluster.First + k];
     const Vec3& x = this->EvaluationPoints[p.first][p.second];
+    const Vec3& n = this->Occluders().GetPolygon(p.first).Normal;
+    if (record)
+    {
+      if ((shot.Mixed || Dot(shot.Normal, x) - shot.Offset > 0.0) && !ws.Roots.empty())
+      {
+        this->EvaluateFast(shot, x, this->RayOrigins[p.first][p.second], n, p.first, ws.Roots,
+          caster, ws, rays, record);
+      }
+      record->NodeEnd.push_back(static_cast<int>(record->Nodes.size()));
+      record->NearEnd.push_back(static_cast<int>(record->Near.size()));
+      continue;
+    }
     if (firstItem[p.first] < 0)
     {
       continue;
@@ -1491,7 +1623,6 @@ void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
       out = RGB();
       continue;
     }
-    const Vec3& n = this->Occluders().GetPolygon(p.first).Normal;
     RGB sum;
     for (const int id : ws.Visible)
     {
@@ -1504,6 +1635,178 @@ void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
     }
     out = NonNegative(sum);
   }
+}
+
+/**
+ * Record the transport: the hierarchy over every surface's triangles
+ * (centroids weighted by the current unshot power, as a group shot's), cut
+ * and tested for visibility at every receiving point as a fast shot would
+ * (EvaluateCluster), with the nodes and near pieces used stored instead of
+ * summed. The leaves carry basis values meanwhile, so that a near piece's
+ * irradiance is the weights of its triangle's corners.
+ */
+void ProgressiveShooter::Internal::RecordTransport()
+{
+  std::unique_ptr<Transport> transport(new Transport);
+  std::vector<int> all;
+  for (int j = 0; j < static_cast<int>(this->Samples.size()); ++j)
+  {
+    if (!this->Samples[j].Triangles.empty())
+    {
+      all.push_back(j);
+    }
+  }
+  if (!all.empty())
+  {
+    this->PrepareGroupShot(all, transport->Sweep, &transport->Basis);
+  }
+  Shot& shot = transport->Sweep;
+  if (!this->ClustersValid)
+  {
+    this->BuildClusters();
+  }
+  transport->Units.resize(this->Clusters.size());
+  if (!shot.Empty)
+  {
+    const std::vector<long long> firstItem(this->Samples.size(), 0);
+    const RayCaster& caster = this->Caster();
+    std::vector<long long> rays(this->Clusters.size(), 0);
+    this->For(this->Clusters.size(), [&](std::size_t begin, std::size_t end) {
+      ChunkWorkspace ws;
+      for (std::size_t c = begin; c < end; ++c)
+      {
+        this->EvaluateCluster(shot, this->Clusters[c], caster, firstItem, ws, nullptr, rays[c],
+          &transport->Units[c]);
+        TransportUnit& unit = transport->Units[c];
+        unit.Shared.shrink_to_fit();
+        unit.Nodes.shrink_to_fit();
+        unit.Near.shrink_to_fit();
+      }
+    });
+    for (const long long count : rays)
+    {
+      transport->Rays += count;
+    }
+  }
+  this->Recorded = std::move(transport);
+}
+
+/**
+ * The moments of node `id`'s subtree about the sweep's origin from its
+ * leaves' current moments (and per axis i, of L m_i for leaves facing m),
+ * and on the way every node's moments about its recorded centroid.
+ */
+void ProgressiveShooter::Internal::RefreshNode(int id, SubtreeMoments& out)
+{
+  Shot& shot = this->Recorded->Sweep;
+  const int left = shot.Nodes[id].Left, right = shot.Nodes[id].Right;
+  if (left < 0)
+  {
+    const Leaf& leaf = shot.Leaves[shot.Nodes[id].LeafIndex];
+    out.Plain = leaf.Moments;
+    for (int i = 0; i < 3; ++i)
+    {
+      out.Axis[i] = RawMoments();
+      out.Axis[i].Add(leaf.Moments, leaf.Normal[i]);
+    }
+  }
+  else
+  {
+    this->RefreshNode(left, out);
+    SubtreeMoments other;
+    this->RefreshNode(right, other);
+    out.Plain.Add(other.Plain);
+    for (int i = 0; i < 3; ++i)
+    {
+      out.Axis[i].Add(other.Axis[i]);
+    }
+  }
+  Node& node = shot.Nodes[id];
+  const Vec3 e = node.Centroid - shot.Origin;
+  node.Power = out.Plain.Power;
+  out.Plain.Central(e, node.Dipole, node.Quadrupole);
+  if (node.Mixed >= 0)
+  {
+    AxisMoments& moments = shot.Moments[node.Mixed];
+    for (int i = 0; i < 3; ++i)
+    {
+      moments.Power[i] = out.Axis[i].Power;
+      out.Axis[i].Central(e, moments.Dipole[i], moments.Quadrupole[i]);
+    }
+  }
+}
+
+/// The leaves' values and moments from the current unshot radiance, then every node's.
+void ProgressiveShooter::Internal::RefreshTransport()
+{
+  Shot& shot = this->Recorded->Sweep;
+  if (shot.Empty)
+  {
+    return;
+  }
+  this->For(shot.Leaves.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t l = begin; l < end; ++l)
+    {
+      shot.Leaves[l] = this->Reweighted(shot.Leaves[l], this->Recorded->Basis[l], shot.Origin);
+    }
+  });
+  SubtreeMoments root;
+  this->RefreshNode(0, root);
+}
+
+/**
+ * A sweep through the recorded transport: at every point of every receiver
+ * cluster, the expansions of its recorded nodes with their current moments
+ * and its near leaves' weights times their corners' unshot radiance.
+ * Point p of surface i goes to irradiance[firstItem[i] + p].
+ */
+void ProgressiveShooter::Internal::Replay(
+  const std::vector<long long>& firstItem, RGB* irradiance) const
+{
+  const Transport& transport = *this->Recorded;
+  const Shot& shot = transport.Sweep;
+  if (shot.Empty)
+  {
+    return;
+  }
+  this->For(this->Clusters.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c)
+    {
+      const ReceiverCluster& cluster = this->Clusters[c];
+      const TransportUnit& unit = transport.Units[c];
+      for (int k = 0; k < cluster.Count; ++k)
+      {
+        const std::pair<int, int>& p = this->ClusterPoints[cluster.First + k];
+        const Vec3& x = this->EvaluationPoints[p.first][p.second];
+        RGB& out = irradiance[firstItem[p.first] + p.second];
+        if (!shot.Mixed && !(Dot(shot.Normal, x) - shot.Offset > 0.0))
+        {
+          out = RGB();
+          continue;
+        }
+        const Vec3& n = this->Occluders().GetPolygon(p.first).Normal;
+        RGB sum;
+        for (const int id : unit.Shared)
+        {
+          sum += this->NodeIrradiance(shot, shot.Nodes[id], x, n);
+        }
+        for (int i = k == 0 ? 0 : unit.NodeEnd[k - 1]; i < unit.NodeEnd[k]; ++i)
+        {
+          sum += this->NodeIrradiance(shot, shot.Nodes[unit.Nodes[i]], x, n);
+        }
+        for (int i = k == 0 ? 0 : unit.NearEnd[k - 1]; i < unit.NearEnd[k]; ++i)
+        {
+          const NearWeight& near = unit.Near[i];
+          const Leaf& leaf = shot.Leaves[near.Leaf];
+          const SurfaceSamples& s = this->Samples[leaf.Surface];
+          const std::array<int, 3>& tri = s.Triangles[leaf.Triangle];
+          sum += s.Unshot[tri[0]] * near.W.R + s.Unshot[tri[1]] * near.W.G +
+            s.Unshot[tri[2]] * near.W.B;
+        }
+        out = NonNegative(sum);
+      }
+    }
+  });
 }
 
 RGB ProgressiveShooter::Internal::NodeIrradiance(
@@ -1540,8 +1843,41 @@ void ProgressiveShooter::Internal::UpdateEvaluationPoints(int surfaceId)
   const std::vector<double>& areas = this->Areas[surfaceId];
   const std::size_t n = samples.Points.size();
   std::vector<Vec3>& eval = this->EvaluationPoints[surfaceId];
-  eval = samples.Points;
   std::vector<Vec3>& origins = this->RayOrigins[surfaceId];
+  if (samples.Uniform && !samples.Triangles.empty())
+  {
+    // One point: the centroid of the triangles' area, or if that lies in
+    // none of them (a concave surface) the centroid of the largest.
+    Vec3 centroid;
+    double total = 0.0;
+    std::size_t largest = 0;
+    for (std::size_t t = 0; t < samples.Triangles.size(); ++t)
+    {
+      const std::array<int, 3>& tri = samples.Triangles[t];
+      centroid += (samples.Points[tri[0]] + samples.Points[tri[1]] + samples.Points[tri[2]]) *
+        (areas[t] / 3.0);
+      total += areas[t];
+      largest = areas[t] > areas[largest] ? t : largest;
+    }
+    const std::array<int, 3>& big = samples.Triangles[largest];
+    const Vec3 fallback =
+      (samples.Points[big[0]] + samples.Points[big[1]] + samples.Points[big[2]]) / 3.0;
+    centroid = total > 0.0 ? centroid / total : fallback;
+    bool inside = false;
+    for (std::size_t t = 0; t < samples.Triangles.size() && !inside; ++t)
+    {
+      const std::array<int, 3>& tri = samples.Triangles[t];
+      const Vec3 a = samples.Points[tri[0]], b = samples.Points[tri[1]], c = samples.Points[tri[2]];
+      const Vec3 normal = Cross(b - a, c - a);
+      inside = Dot(Cross(b - a, centroid - a), normal) >= 0.0 &&
+        Dot(Cross(c - b, centroid - b), normal) >= 0.0 &&
+        Dot(Cross(a - c, centroid - c), normal) >= 0.0;
+    }
+    eval.assign(1, inside ? centroid : fallback);
+    origins = eval;
+    return;
+  }
+  eval = samples.Points;
   origins = samples.Points;
   const double rayOffset =
     n > 0 ? this->Settings.RayOriginOffset * this->Occluders().GetPolygon(surfaceId).Diameter : 0.0;
@@ -1727,6 +2063,12 @@ void ProgressiveShooter::SetSettings(const ProgressiveShooterSettings& settings)
     settings.RayOriginOffset != this->P->Settings.RayOriginOffset;
   this->P->ClustersValid = this->P->ClustersValid && !moved &&
     settings.ReceiverClusterSize == this->P->Settings.ReceiverClusterSize;
+  const ProgressiveShooterSettings& old = this->P->Settings;
+  if (!this->P->ClustersValid || settings.OpeningAngle != old.OpeningAngle ||
+    settings.LeafSize != old.LeafSize)
+  {
+    this->P->Recorded.reset();
+  }
   this->P->Settings = settings;
   if (moved)
   {
@@ -1810,6 +2152,7 @@ void ProgressiveShooter::SetSurfaceSamples(int surfaceId, SurfaceSamples samples
   I.Samples[surfaceId] = std::move(samples);
   I.UpdateEvaluationPoints(surfaceId);
   I.ClustersValid = false;
+  I.Recorded.reset();
   const SurfaceSamples& s = I.Samples[surfaceId];
   I.UnshotPower[surfaceId] = IntegrateLinear(s, areas, s.Unshot) * Pi;
   I.EnergyValid = false;
@@ -1934,8 +2277,14 @@ ShotRecord ProgressiveShooter::Shoot(int shooterId, ShotMethod method)
   return I.ShootSurfaces({ shooterId }, method, this->GetReferencePower());
 }
 
+/**
+ * Shoot the members' unshot radiance (one surface, or a group) at every
+ * receiver that can see them. With `sweep` (ReuseTransport) the members are
+ * every surface with triangles and the irradiance comes from the recorded
+ * transport (recorded on the first sweep).
+ */
 ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
-  const std::vector<int>& members, ShotMethod method, double reference)
+  const std::vector<int>& members, ShotMethod method, double reference, bool sweep)
 {
   Internal& I = *this;
   const int numberOfSurfaces = static_cast<int>(I.Samples.size());
@@ -1957,7 +2306,11 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
   if (anyTriangles)
   {
     Internal::Shot shot;
-    if (group)
+    if (sweep)
+    {
+      shot.Empty = false; // the transport's hierarchy holds the members
+    }
+    else if (group)
     {
       I.PrepareGroupShot(members, shot);
     }
@@ -1966,7 +2319,7 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
       I.PrepareShot(shooterId, method, shot);
     }
     const double coarse = I.Settings.CoarseShotFraction * reference;
-    if (record.Power.Mean() > 0.0 && record.Power.Mean() < coarse)
+    if (!sweep && record.Power.Mean() > 0.0 && record.Power.Mean() < coarse)
     {
       shot.OpeningAngle *= std::min(2.0, std::sqrt(coarse / record.Power.Mean()));
     }
@@ -1986,11 +2339,11 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
       std::vector<int> candidates;
       for (int i = 0; i < numberOfSurfaces; ++i)
       {
-        if ((isMember[i] && !shot.Mixed) || I.Samples[i].Points.empty())
+        if ((isMember[i] && !shot.Mixed && !sweep) || I.EvaluationPoints[i].empty())
         {
           continue;
         }
-        if (shot.Mixed)
+        if (shot.Mixed || sweep)
         {
           // Members light each other; the hierarchy culls what is behind.
           candidates.clear();
@@ -2024,7 +2377,7 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
           continue;
         }
         receivers.push_back({ i, items, candidates });
-        items += I.Samples[i].Points.size();
+        items += I.EvaluationPoints[i].size();
       }
     }
     record.Receivers = static_cast<int>(receivers.size());
@@ -2032,7 +2385,22 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
     std::vector<RGB> irradiance(items);
     std::vector<long long> rays; // per work item (fast method)
     const bool clustered = method == ShotMethod::Fast && I.Settings.ReceiverClusterSize > 1;
-    if (items > 0 && clustered)
+    if (items > 0 && sweep)
+    {
+      if (!I.Recorded)
+      {
+        I.RecordTransport();
+        record.Rays += I.Recorded->Rays;
+      }
+      I.RefreshTransport();
+      std::vector<long long> firstItem(I.Samples.size(), -1);
+      for (const Receiver& rec : receivers)
+      {
+        firstItem[rec.Id] = static_cast<long long>(rec.First);
+      }
+      I.Replay(firstItem, irradiance.data());
+    }
+    else if (items > 0 && clustered)
     {
       if (!I.ClustersValid)
       {
@@ -2097,8 +2465,12 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
     {
       SurfaceSamples& s = I.Samples[rec.Id];
       const RGB rho = I.SceneCopy.Surfaces[rec.Id].Reflectance;
-      const std::vector<RGB> e(irradiance.begin() + static_cast<std::ptrdiff_t>(rec.First),
-        irradiance.begin() + static_cast<std::ptrdiff_t>(rec.First + s.Points.size()));
+      std::vector<RGB> e(irradiance.begin() + static_cast<std::ptrdiff_t>(rec.First),
+        irradiance.begin() + static_cast<std::ptrdiff_t>(rec.First + I.EvaluationPoints[rec.Id].size()));
+      if (e.size() != s.Points.size())
+      {
+        e.assign(s.Points.size(), e[0]); // a uniform receiver
+      }
       const RGB incident = IntegrateLinear(s, I.Areas[rec.Id], e);
       record.Incident += incident;
       record.Absorbed += RGB(1.0 - rho.R, 1.0 - rho.G, 1.0 - rho.B) * incident;
@@ -2180,7 +2552,20 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     }
     const ShotMethod method = this->ChooseMethod(I.UnshotPower[j].Mean());
     std::vector<int> members(1, j);
-    if (method == ShotMethod::Fast && I.Settings.GroupWeakShots)
+    const bool sweep = method == ShotMethod::Fast && I.Settings.ReuseTransport;
+    if (sweep)
+    {
+      // Every surface (j, the strongest, first): its unshot radiance shoots
+      // through the transport, zero or not.
+      for (int k = 0; k < this->GetNumberOfSurfaces(); ++k)
+      {
+        if (k != j && !I.Samples[k].Triangles.empty())
+        {
+          members.push_back(k);
+        }
+      }
+    }
+    else if (method == ShotMethod::Fast && I.Settings.GroupWeakShots)
     {
       // The weak surfaces facing the shooter's way (which never light each
       // other), and if GroupAcrossOrientations those with at least
@@ -2199,7 +2584,7 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
         }
       }
     }
-    ShotRecord record = I.ShootSurfaces(members, method, this->GetReferencePower());
+    ShotRecord record = I.ShootSurfaces(members, method, this->GetReferencePower(), sweep);
     ++summary.Shots;
     if (method == ShotMethod::Exact)
     {

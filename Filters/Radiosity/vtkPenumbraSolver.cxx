@@ -88,7 +88,7 @@ int vtkPenumbraSolver::RequestData(
   shooter->SetUnshotFraction(this->UnshotFraction);
   shooter->SetExactPowerFraction(this->ExactPowerFraction);
   shooter->SetMaximumIndirectSamples(this->MaximumIndirectSamples);
-  shooter->SetGroupAcrossOrientations(this->GroupAcrossOrientations);
+  shooter->SetReuseTransport(this->ReuseTransport);
   vtkNew<vtkRadianceReconstructor> reconstructor;
   reconstructor->SetInputConnection(
     this->Indirect ? shooter->GetOutputPort() : evaluator->GetOutputPort());
@@ -152,8 +152,7 @@ void vtkPenumbraSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "UnshotFraction: " << this->UnshotFraction << "\n";
   os << indent << "ExactPowerFraction: " << this->ExactPowerFraction << "\n";
   os << indent << "MaximumIndirectSamples: " << this->MaximumIndirectSamples << "\n";
-  os << indent << "GroupAcrossOrientations: " << (this->GroupAcrossOrientations ? "On" : "Off")
-     << "\n";
+  os << indent << "ReuseTransport: " << (this->ReuseTransport ? "On" : "Off") << "\n";
   os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
   os << indent << "MaximumSamples: " << this->MaximumSamples << "\n";
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";

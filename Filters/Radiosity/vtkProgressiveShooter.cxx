@@ -66,6 +66,7 @@ int vtkProgressiveShooter::RequestData(
   settings.CoarseShotFraction = this->CoarseShotFraction;
   settings.GroupWeakShots = this->GroupWeakShots;
   settings.GroupAcrossOrientations = this->GroupAcrossOrientations;
+  settings.ReuseTransport = this->ReuseTransport;
   settings.ReceiverClusterSize = this->ReceiverClusterSize;
 
   // Per surface: its samples in local numbering; global ids to write back.
@@ -156,6 +157,9 @@ int vtkProgressiveShooter::RequestData(
         auto level = std::make_shared<penumbra::IndirectLevel>(
           scene.Surfaces[entry.first], spacing, entry.second);
         coarse[entry.first] = { level, level->Restrict(entry.second) };
+        // A polygon within one lattice cell receives one value, as the
+        // lattice resolves nothing finer.
+        coarse[entry.first].Before.Uniform = level->GetResolution() == 1;
         fine[entry.first] = std::move(entry.second);
         shooter->SetSurfaceSamples(entry.first, coarse[entry.first].Before);
       }
@@ -214,7 +218,7 @@ int vtkProgressiveShooter::RequestData(
   vtkIdType shootingSamples = 0;
   for (int i = 0; i < shooter->GetNumberOfSurfaces(); ++i)
   {
-    shootingSamples += static_cast<vtkIdType>(shooter->GetSurfaceSamples(i).Points.size());
+    shootingSamples += static_cast<vtkIdType>(shooter->GetEvaluationPoints(i).size());
   }
   penumbra::AddField(fieldData, "IndirectSamples", static_cast<double>(shootingSamples));
   penumbra::AddField(fieldData, "IndirectSpacing", coarse.empty() ? 0.0 : spacing);
@@ -252,6 +256,7 @@ void vtkProgressiveShooter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GroupWeakShots: " << (this->GroupWeakShots ? "On" : "Off") << "\n";
   os << indent << "GroupAcrossOrientations: " << (this->GroupAcrossOrientations ? "On" : "Off")
      << "\n";
+  os << indent << "ReuseTransport: " << (this->ReuseTransport ? "On" : "Off") << "\n";
   os << indent << "ReceiverClusterSize: " << this->ReceiverClusterSize << "\n";
   os << indent << "MaximumIndirectSamples: " << this->MaximumIndirectSamples << "\n";
 }

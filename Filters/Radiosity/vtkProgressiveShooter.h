@@ -124,6 +124,22 @@ public:
 
   ///@{
   /**
+   * Once every remaining shot is fast, shoot all surfaces at once (Jacobi
+   * sweeps) through a transport recorded on the first sweep: the cut of
+   * the hierarchy and its visibility at every receiving point are kept and
+   * later sweeps trace no rays (penumbra::ProgressiveShooterSettings::
+   * ReuseTransport; GroupWeakShots, GroupAcrossOrientations and
+   * CoarseShotFraction then apply to the strong shots only, which are
+   * exact by default). Costs memory (about 4 bytes per node used per
+   * point). Default on.
+   */
+  vtkSetMacro(ReuseTransport, bool);
+  vtkGetMacro(ReuseTransport, bool);
+  vtkBooleanMacro(ReuseTransport, bool);
+  ///@}
+
+  ///@{
+  /**
    * Fast shots evaluate the receiving points in clusters of at most this
    * many points facing the same way: a node of the shooter's hierarchy far
    * from the whole cluster is tested by rays from four of its points, not
@@ -171,6 +187,7 @@ protected:
   double CoarseShotFraction = 0.003;
   bool GroupWeakShots = true;
   bool GroupAcrossOrientations = false;
+  bool ReuseTransport = true;
   int ReceiverClusterSize = 16;
   vtkIdType MaximumIndirectSamples = 100000;
 

@@ -133,8 +133,8 @@ public:
    * always kept whole), so the total stays below twice the budget. It
    * bounds time and memory on scenes of many thousands of polygons, where
    * SamplingTolerance alone asks for thousands of samples per polygon; small
-   * scenes never reach it (the Cornell box uses 2% of it). Where it binds,
-   * the largest residuals are refined first. Default 4000000, range
+   * scenes never reach it (the Cornell box uses 13% of it). Where it binds,
+   * the largest residuals are refined first. Default 500000, range
    * [0, 2000000000]; 0 = no scene budget.
    */
   vtkSetClampMacro(MaximumSamples, vtkIdType, 0, 2000000000);
@@ -214,7 +214,7 @@ protected:
   bool AdaptiveSampling = true;
   double SamplingTolerance = 0.002;
   int MaximumSamplesPerSurface = 200000;
-  vtkIdType MaximumSamples = 4000000;
+  vtkIdType MaximumSamples = 500000;
   double MaximumSampleSpacing = 1.0 / 32.0;
   double MinimumFeatureSize = 1e-4;
   std::vector<vtkIdType> ShooterIds;

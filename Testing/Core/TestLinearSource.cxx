@@ -558,6 +558,37 @@ void TestHalfLitShooter()
 
 } // namespace
 
+// A receiving point at a vertex of the source, a rounding error above its
+// plane (a box's corner on the floor it stands on): the integral is tiny
+// and must stay finite (it was NaN, from the moments' centroid 0 / 0).
+void TestPointAtVertex()
+{
+  const Vec3 points[3] = { Vec3(0, 0, 0), Vec3(0.05, 0, 0), Vec3(0, 0, 0.05) };
+  const RGB values[3] = { RGB(1, 0, 0), RGB(0, 1, 0), RGB(0, 0, 1) };
+  for (const double height : { 0.0, 5e-10, 1e-7 })
+  {
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      const Vec3 x = points[corner] + Vec3(0, height, 0);
+      for (const Vec3& n : { Vec3(-1, 0, 0), Vec3(0, 0, -1), Vec3(1, 0, 0), Vec3(0, 1, 0) })
+      {
+        const RGB e = LinearTriangleIrradiance(x, n, points, values, Vec3(0, 1, 0));
+        const bool finite = std::isfinite(e.R) && std::isfinite(e.G) && std::isfinite(e.B);
+        if (!finite)
+        {
+          std::printf("non-finite at corner %d, height %g, n (%g %g %g)\n", corner, height, n.X,
+            n.Y, n.Z);
+        }
+        PENUMBRA_EXPECT(finite);
+        PENUMBRA_EXPECT(e.R >= 0.0 && e.G >= 0.0 && e.B >= 0.0);
+        // Bounded by the irradiance of a unit radiance over the whole
+        // hemisphere seen through the triangle's plane from that height.
+        PENUMBRA_EXPECT(e.R + e.G + e.B <= Pi);
+      }
+    }
+  }
+}
+
 int main()
 {
   TestClausen();
@@ -566,5 +597,6 @@ int main()
   TestShooterMesh();
   TestInvalidMesh();
   TestHalfLitShooter();
+  TestPointAtVertex();
   return penumbra::testing::Result();
 }

@@ -513,10 +513,12 @@ struct CornellRun
 CornellRun RunCornell(const Scene& scene, int n, double exactFraction, double unshotFraction,
   int maximumShots, const penumbra::ParallelFor& loop, bool groupWeakShots = true,
   bool acrossOrientations = false,
-  int receiverClusterSize = ProgressiveShooterSettings().ReceiverClusterSize)
+  int receiverClusterSize = ProgressiveShooterSettings().ReceiverClusterSize,
+  bool reuseTransport = false)
 {
   ProgressiveShooter shooter(scene);
   ProgressiveShooterSettings settings;
+  settings.ReuseTransport = reuseTransport;
   settings.ReceiverClusterSize = receiverClusterSize;
   settings.GroupWeakShots = groupWeakShots;
   settings.GroupAcrossOrientations = acrossOrientations;
@@ -643,6 +645,27 @@ void TestCornellExactVersusFast()
   PENUMBRA_EXPECT(pointwiseRms <= 0.02);
   PENUMBRA_EXPECT(sweeps.Summary.Shots < fast.Summary.Shots);
   PENUMBRA_EXPECT(EnergyIdentityError(sweeps.Summary.Energy) <= 1e-6);
+  // Sweeps of every surface through the transport recorded on the first:
+  // the same fast method (centroids weighted by the first sweep's power),
+  // so the same error bound; only the first sweep traces rays.
+  for (const int clusterSize : { 16, 0 })
+  {
+    const CornellRun reused = RunCornell(scene, n, std::numeric_limits<double>::infinity(), 1e-3,
+      10000, TwoThreads, true, false, clusterSize, true);
+    const double reusedRms =
+      row(clusterSize ? "inf, reused transport" : "inf, reused, clusters off", reused);
+    PENUMBRA_EXPECT(reusedRms <= 0.02);
+    PENUMBRA_EXPECT(EnergyIdentityError(reused.Summary.Energy) <= 1e-6);
+    PENUMBRA_EXPECT(reused.Summary.Shots > 1 && reused.Summary.History[0].Rays > 0);
+    long long laterRays = 0;
+    for (std::size_t k = 0; k < reused.Summary.History.size(); ++k)
+    {
+      laterRays += k > 0 ? reused.Summary.History[k].Rays : 0;
+      PENUMBRA_EXPECT(
+        reused.Summary.History[k].GroupSize == static_cast<int>(scene.Surfaces.size()));
+    }
+    PENUMBRA_EXPECT(laterRays == 0);
+  }
   int groupedShots = 0, largestGroup = 1;
   for (const penumbra::ShotRecord& r : fast.Summary.History)
   {
@@ -801,6 +824,66 @@ void TestReceiverClusters()
         BitIdentical(serial.Total, threaded.Total) ? "bit-identical" : "DIFFER");
       PENUMBRA_EXPECT(BitIdentical(serial.Total, threaded.Total));
     }
+  }
+}
+
+// A Uniform receiver gets one irradiance, evaluated at its centroid, at
+// every point: against the closed-form point-to-square form factor, by
+// both methods; and a concave receiver whose centroid lies outside it is
+// evaluated inside it.
+void TestUniformReceiver()
+{
+  std::printf("== uniform receiver: unit square L^e = 1 below a parallel unit square at 1\n");
+  const double rho = 0.8;
+  Scene scene;
+  scene.Surfaces.push_back(Polygon({ { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 } },
+    { 0, 0, 1 }, RGB(0.5, 0.5, 0.5), RGB(1, 1, 1)));
+  scene.Surfaces.push_back(Polygon({ { 0, 0, 1 }, { 1, 0, 1 }, { 1, 1, 1 }, { 0, 1, 1 } },
+    { 0, 0, -1 }, RGB(rho, rho, rho), RGB()));
+  // Thin L (arms 4 long, 0.2 wide) at height 2: its area centroid lies outside it.
+  const std::vector<Vec3> corners = { { -1, -1, 2 }, { 3, -1, 2 }, { 3, -0.8, 2 },
+    { -0.8, -0.8, 2 }, { -0.8, 3, 2 }, { -1, 3, 2 } };
+  scene.Surfaces.push_back(Polygon(corners, { 0, 0, -1 }, RGB(rho, rho, rho), RGB()));
+  const double expected = rho * UnitSquareFormFactor(0.5, 0.5, 1.0); // rho / pi * pi L F
+  for (const ShotMethod method : { ShotMethod::Exact, ShotMethod::Fast })
+  {
+    ProgressiveShooter shooter(scene);
+    SurfaceSamples emitter = QuadMesh(scene.Surfaces[0].Vertices, 2, false);
+    emitter.Total.assign(emitter.Points.size(), RGB(1, 1, 1));
+    emitter.Unshot = emitter.Total;
+    SurfaceSamples receiver = QuadMesh(scene.Surfaces[1].Vertices, 4, false);
+    receiver.Total.assign(receiver.Points.size(), RGB());
+    receiver.Unshot = receiver.Total;
+    receiver.Uniform = true;
+    // The L: a fan from its outer corner, one point each corner.
+    SurfaceSamples ell;
+    ell.Points = corners;
+    ell.Triangles = { { 0, 1, 2 }, { 0, 2, 3 }, { 0, 3, 4 }, { 0, 4, 5 } };
+    ell.Total.assign(ell.Points.size(), RGB());
+    ell.Unshot = ell.Total;
+    ell.Uniform = true;
+    shooter.SetSurfaceSamples(0, emitter);
+    shooter.SetSurfaceSamples(1, receiver);
+    shooter.SetSurfaceSamples(2, ell);
+    PENUMBRA_EXPECT(shooter.GetEvaluationPoints(1).size() == 1);
+    PENUMBRA_EXPECT(Length(shooter.GetEvaluationPoints(1)[0] - Vec3(0.5, 0.5, 1.0)) < 1e-12);
+    const Vec3 e = shooter.GetEvaluationPoints(2).at(0);
+    const bool inL = (e.X >= -1 && e.X <= 3 && e.Y >= -1 && e.Y <= -0.8) ||
+      (e.X >= -1 && e.X <= -0.8 && e.Y >= -1 && e.Y <= 3);
+    PENUMBRA_EXPECT(inL);
+    const penumbra::ShotRecord record = shooter.Shoot(0, method);
+    const SurfaceSamples& r = shooter.GetSurfaceSamples(1);
+    double worst = 0.0;
+    for (const RGB& v : r.Total)
+    {
+      worst = std::max(worst, std::abs(v.R - expected) / expected);
+      PENUMBRA_EXPECT(v.R == r.Total[0].R && v.G == r.Total[0].G && v.B == r.Total[0].B);
+    }
+    std::printf("   %s: every point %.10f, closed form %.10f, relative error %.2e; "
+                "L evaluated at (%.2f, %.2f)\n",
+      method == ShotMethod::Exact ? "exact" : "fast ", r.Total[0].R, expected, worst, e.X, e.Y);
+    PENUMBRA_EXPECT(worst <= (method == ShotMethod::Exact ? 1e-9 : 3e-3));
+    PENUMBRA_EXPECT(record.Samples == 2); // one point per uniform receiver
   }
 }
 
@@ -996,6 +1079,7 @@ int main()
 {
   TestErrorsAndControl();
   TestTwoPatches();
+  TestUniformReceiver();
   TestFurnace();
   TestMirrorSymmetry();
   TestThreadIndependence();

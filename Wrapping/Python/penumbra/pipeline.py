@@ -103,7 +103,7 @@ def build_standard(scene_port, unshot_fraction=None, element_size=None, patch_si
 
 def solve(scene, threads=None, minimum_angle=None, subdivision_level=None, indirect=True,
           unshot_fraction=None, exact_power_fraction=None, progress=None,
-          method="discontinuity", indirect_samples=None, group_across_orientations=None,
+          method="discontinuity", indirect_samples=None, reuse_transport=None,
           **standard_settings):
     """Solve `scene` (a built-in name, a .vtp/.obj path, or a scene vtkPolyData).
 
@@ -113,8 +113,8 @@ def solve(scene, threads=None, minimum_angle=None, subdivision_level=None, indir
     fraction of the emitted power. indirect_samples: largest number of
     points the interreflections are shot onto (more samples: a coarse
     level, vtkPenumbraSolver::MaximumIndirectSamples);
-    group_across_orientations: Jacobi sweeps of the weak surfaces of every
-    orientation (vtkPenumbraSolver::GroupAcrossOrientations). Settings
+    reuse_transport: weak shots as Jacobi sweeps through a transport
+    recorded once (vtkPenumbraSolver::ReuseTransport, default on). Settings
     left None keep the defaults of vtkPenumbraSolver (or vtkStandardRadiositySolver). progress: a callable
     progress(stage_name, fraction) called as the solve runs (fraction of
     the whole solve, from 0 to 1). method:
@@ -165,7 +165,7 @@ def solve(scene, threads=None, minimum_angle=None, subdivision_level=None, indir
                               (algorithm.SetUnshotFraction, unshot_fraction),
                               (algorithm.SetExactPowerFraction, exact_power_fraction),
                               (algorithm.SetMaximumIndirectSamples, indirect_samples),
-                              (algorithm.SetGroupAcrossOrientations, group_across_orientations)):
+                              (algorithm.SetReuseTransport, reuse_transport)):
             if value is not None:
                 setter(value)
     if progress is not None:
