@@ -729,6 +729,7 @@ struct ProgressiveShooter::Internal
   std::unique_ptr<RayCaster> Rays;
   ProgressiveShooterSettings Settings;
   ParallelFor Loop;
+  ShotProgressCallback ShotProgress;
   std::vector<SurfaceSamples> Samples;
   std::vector<std::vector<Vec3>> EvaluationPoints;
   std::vector<std::vector<Vec3>> RayOrigins; ///< fast method: where visibility rays start
@@ -1671,18 +1672,31 @@ void ProgressiveShooter::Internal::RecordTransport()
     const std::vector<long long> firstItem(this->Samples.size(), 0);
     const RayCaster& caster = this->Caster();
     std::vector<long long> rays(this->Clusters.size(), 0);
-    this->For(this->Clusters.size(), [&](std::size_t begin, std::size_t end) {
-      ChunkWorkspace ws;
-      for (std::size_t c = begin; c < end; ++c)
+    // In parts, each a parallel loop, so that progress is reported from
+    // this thread between them.
+    const std::size_t clusters = this->Clusters.size();
+    const std::size_t parts = this->ShotProgress ? std::min<std::size_t>(clusters, 50) : 1;
+    for (std::size_t part = 0; part < parts; ++part)
+    {
+      const std::size_t first = clusters * part / parts;
+      const std::size_t last = clusters * (part + 1) / parts;
+      this->For(last - first, [&](std::size_t begin, std::size_t end) {
+        ChunkWorkspace ws;
+        for (std::size_t c = first + begin; c < first + end; ++c)
+        {
+          this->EvaluateCluster(shot, this->Clusters[c], caster, firstItem, ws, nullptr,
+            rays[c], &transport->Units[c]);
+          TransportUnit& unit = transport->Units[c];
+          unit.Shared.shrink_to_fit();
+          unit.Nodes.shrink_to_fit();
+          unit.Near.shrink_to_fit();
+        }
+      });
+      if (this->ShotProgress)
       {
-        this->EvaluateCluster(shot, this->Clusters[c], caster, firstItem, ws, nullptr, rays[c],
-          &transport->Units[c]);
-        TransportUnit& unit = transport->Units[c];
-        unit.Shared.shrink_to_fit();
-        unit.Nodes.shrink_to_fit();
-        unit.Near.shrink_to_fit();
+        this->ShotProgress(static_cast<double>(last) / static_cast<double>(clusters));
       }
-    });
+    }
     for (const long long count : rays)
     {
       transport->Rays += count;
@@ -2082,6 +2096,11 @@ void ProgressiveShooter::SetSettings(const ProgressiveShooterSettings& settings)
 const ProgressiveShooterSettings& ProgressiveShooter::GetSettings() const
 {
   return this->P->Settings;
+}
+
+void ProgressiveShooter::SetShotProgressCallback(ShotProgressCallback callback)
+{
+  this->P->ShotProgress = std::move(callback);
 }
 
 void ProgressiveShooter::SetParallelFor(ParallelFor parallelFor)

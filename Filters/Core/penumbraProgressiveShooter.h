@@ -400,6 +400,14 @@ struct ShootingSummary
 using ShotCallback = std::function<bool(const ShotRecord& shot, double progress)>;
 
 /**
+ * Called during a long shot (the first sweep through a recorded transport,
+ * which traces every ray the later sweeps reuse) with the fraction of that
+ * shot done, in [0, 1], increasing; from the thread that called Run or
+ * Shoot, between parallel loops, never from a worker.
+ */
+using ShotProgressCallback = std::function<void(double fraction)>;
+
+/**
  * The stopping rule of the shooting loops, checked before each shot: true
  * (and `reason` set) when the unshot power is at most `target`
  * (StopReason::Converged) or `shots` has reached `maximumShots`
@@ -439,6 +447,9 @@ public:
 
   /// The parallel loop used by every shot (empty = serial, the default).
   void SetParallelFor(ParallelFor parallelFor);
+
+  /// Progress inside long shots (see ShotProgressCallback; empty = none, the default).
+  void SetShotProgressCallback(ShotProgressCallback callback);
 
   /**
    * Give surface `surfaceId` its sample mesh and radiance values (moved in;

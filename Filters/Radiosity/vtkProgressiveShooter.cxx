@@ -177,9 +177,17 @@ int vtkProgressiveShooter::RequestData(
   }
 
   this->UpdateProgress(0.0);
+  // The first sweep through a recorded transport traces the rays of all
+  // later ones (most of the shooting time of a large scene): it moves the
+  // bar over half of what is left. The bar never goes back.
+  double shown = 0.0;
+  shooter->SetShotProgressCallback([this, &shown](double fraction) {
+    this->UpdateProgress(shown + 0.5 * (1.0 - shown) * fraction);
+  });
   const penumbra::ShootingSummary summary =
-    shooter->Run([this](const penumbra::ShotRecord&, double progress) {
-      this->UpdateProgress(progress);
+    shooter->Run([this, &shown](const penumbra::ShotRecord&, double progress) {
+      shown = std::max(shown, std::max(progress, this->GetProgress()));
+      this->UpdateProgress(shown);
       return !this->GetAbortExecute();
     });
 

@@ -827,6 +827,48 @@ void TestReceiverClusters()
   }
 }
 
+// Progress inside the first sweep through a recorded transport: reported
+// from the calling thread, increasing to 1; recording in parts with it
+// changes no result.
+void TestShotProgress()
+{
+  std::printf("== progress inside the recording sweep: Cornell box, 6x6 meshes, all fast\n");
+  const Scene scene = penumbra::MakeBuiltinScene("cornell");
+  std::vector<std::vector<RGB>> totals[2];
+  std::vector<double> fractions;
+  for (const bool report : { false, true })
+  {
+    ProgressiveShooter shooter(scene);
+    ProgressiveShooterSettings settings;
+    settings.ReuseTransport = true;
+    settings.ExactPowerFraction = std::numeric_limits<double>::infinity();
+    settings.UnshotFraction = 1e-3;
+    shooter.SetSettings(settings);
+    shooter.SetParallelFor(TwoThreads);
+    if (report)
+    {
+      shooter.SetShotProgressCallback([&fractions](double f) { fractions.push_back(f); });
+    }
+    SetDirectLight(shooter, scene, CornellMeshes(scene, 6));
+    shooter.Run();
+    for (std::size_t i = 0; i < scene.Surfaces.size(); ++i)
+    {
+      totals[report ? 1 : 0].push_back(shooter.GetSurfaceSamples(static_cast<int>(i)).Total);
+    }
+  }
+  bool increasing = !fractions.empty();
+  for (std::size_t k = 1; k < fractions.size(); ++k)
+  {
+    increasing = increasing && fractions[k] > fractions[k - 1];
+  }
+  std::printf("   %zu reports, last %.3f; totals with and without: %s\n", fractions.size(),
+    fractions.empty() ? -1.0 : fractions.back(),
+    BitIdentical(totals[0], totals[1]) ? "bit-identical" : "DIFFER");
+  PENUMBRA_EXPECT(fractions.size() > 1 && increasing);
+  PENUMBRA_EXPECT(fractions.front() > 0.0 && fractions.back() == 1.0);
+  PENUMBRA_EXPECT(BitIdentical(totals[0], totals[1]));
+}
+
 // A Uniform receiver gets one irradiance, evaluated at its centroid, at
 // every point: against the closed-form point-to-square form factor, by
 // both methods; and a concave receiver whose centroid lies outside it is
@@ -1080,6 +1122,7 @@ int main()
   TestErrorsAndControl();
   TestTwoPatches();
   TestUniformReceiver();
+  TestShotProgress();
   TestFurnace();
   TestMirrorSymmetry();
   TestThreadIndependence();
