@@ -635,6 +635,10 @@ struct ProgressiveShooter::Internal
     bool Mixed = false; ///< a group shot of surfaces facing different ways
     double OpeningAngle = 0.3; ///< fast method: this shot's opening angle
     Vec3 Origin; ///< fast method: the leaves' moments are about this point
+
+    /// x is behind the shooter, which emits from its front only (a group
+    /// facing several ways: decided node by node instead).
+    bool Behind(const Vec3& x) const { return !Mixed && !(Dot(Normal, x) - Offset > 0.0); }
   };
 
   const OccluderSet& Occluders() const { return this->Exact.GetOccluders(); }
@@ -867,10 +871,6 @@ void ProgressiveShooter::Internal::AddLeaves(
   }
 }
 
-/// A fast shot of several surfaces at once (see
-/// ProgressiveShooterSettings::GroupWeakShots): one hierarchy over all
-/// their leaves, so that a far cluster of them costs one expansion and one
-/// ray.
 /// The leaf with the unshot radiance of its triangle's corners, from its
 /// corners' barycentric coordinates `basis` in that triangle.
 Leaf ProgressiveShooter::Internal::Reweighted(
@@ -891,7 +891,10 @@ Leaf ProgressiveShooter::Internal::Reweighted(
   return result;
 }
 
-/// With `basis` (the transport): every triangle with an area, the
+/// A fast shot of several surfaces at once (see
+/// ProgressiveShooterSettings::GroupWeakShots): one hierarchy over all
+/// their leaves, so that a far cluster of them costs one expansion and one
+/// ray. With `basis` (the transport): every triangle with an area, the
 /// hierarchy built on the current unshot radiance (power-weighted
 /// centroids), and each leaf's corners' barycentric coordinates in its
 /// triangle returned in `basis` and left as its Values (see AddLeaves).
@@ -1064,9 +1067,9 @@ RGB ProgressiveShooter::Internal::Evaluate(const Shot& shot, const Vec3& x, cons
   const Vec3& n, int receiver, const std::vector<int>* candidates, const RayCaster* caster,
   ChunkWorkspace& ws, long long& rays) const
 {
-  if (shot.Empty || (!shot.Mixed && !(Dot(shot.Normal, x) - shot.Offset > 0.0)))
+  if (shot.Empty || shot.Behind(x))
   {
-    return RGB(); // x is behind the shooter, which emits from its front only
+    return RGB();
   }
   if (shot.Method == ShotMethod::Exact)
   {
@@ -1465,7 +1468,7 @@ void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
   const ReceiverCluster& cluster, const RayCaster& caster, const std::vector<long long>& firstItem,
   ChunkWorkspace& ws, RGB* irradiance, long long& rays, TransportUnit* record) const
 {
-  bool any = false;
+  bool any = record != nullptr; // recording: every point, firstItem unused
   for (int k = 0; k < cluster.Count && !any; ++k)
   {
     any = firstItem[this->ClusterPoints[cluster.First + k].first] >= 0;
@@ -1605,7 +1608,7 @@ void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
     const Vec3& n = this->Occluders().GetPolygon(p.first).Normal;
     if (record)
     {
-      if ((shot.Mixed || Dot(shot.Normal, x) - shot.Offset > 0.0) && !ws.Roots.empty())
+      if (!shot.Behind(x) && !ws.Roots.empty())
       {
         this->EvaluateFast(shot, x, this->RayOrigins[p.first][p.second], n, p.first, ws.Roots,
           caster, ws, rays, record);
@@ -1619,7 +1622,7 @@ void ProgressiveShooter::Internal::EvaluateCluster(const Shot& shot,
       continue;
     }
     RGB& out = irradiance[firstItem[p.first] + p.second];
-    if (!shot.Mixed && !(Dot(shot.Normal, x) - shot.Offset > 0.0))
+    if (shot.Behind(x))
     {
       out = RGB();
       continue;
@@ -1669,7 +1672,6 @@ void ProgressiveShooter::Internal::RecordTransport()
   transport->Units.resize(this->Clusters.size());
   if (!shot.Empty)
   {
-    const std::vector<long long> firstItem(this->Samples.size(), 0);
     const RayCaster& caster = this->Caster();
     std::vector<long long> rays(this->Clusters.size(), 0);
     // In parts, each a parallel loop, so that progress is reported from
@@ -1684,8 +1686,8 @@ void ProgressiveShooter::Internal::RecordTransport()
         ChunkWorkspace ws;
         for (std::size_t c = first + begin; c < first + end; ++c)
         {
-          this->EvaluateCluster(shot, this->Clusters[c], caster, firstItem, ws, nullptr,
-            rays[c], &transport->Units[c]);
+          this->EvaluateCluster(shot, this->Clusters[c], caster, {}, ws, nullptr, rays[c],
+            &transport->Units[c]);
           TransportUnit& unit = transport->Units[c];
           unit.Shared.shrink_to_fit();
           unit.Nodes.shrink_to_fit();
@@ -1793,7 +1795,7 @@ void ProgressiveShooter::Internal::Replay(
         const std::pair<int, int>& p = this->ClusterPoints[cluster.First + k];
         const Vec3& x = this->EvaluationPoints[p.first][p.second];
         RGB& out = irradiance[firstItem[p.first] + p.second];
-        if (!shot.Mixed && !(Dot(shot.Normal, x) - shot.Offset > 0.0))
+        if (shot.Behind(x))
         {
           out = RGB();
           continue;

@@ -129,9 +129,8 @@ public:
    * the hierarchy and its visibility at every receiving point are kept and
    * later sweeps trace no rays (penumbra::ProgressiveShooterSettings::
    * ReuseTransport; GroupWeakShots, GroupAcrossOrientations and
-   * CoarseShotFraction then apply to the strong shots only, which are
-   * exact by default). Costs memory (about 4 bytes per node used per
-   * point). Default on.
+   * CoarseShotFraction, which shape weak shots, then have no effect).
+   * Costs memory (about 4 bytes per node used per point). Default on.
    */
   vtkSetMacro(ReuseTransport, bool);
   vtkGetMacro(ReuseTransport, bool);
