@@ -310,6 +310,20 @@ inline bool BoxOutside(const CullingVolume& volume, const Vec3& lo, const Vec3& 
   {
     return true;
   }
+  if (volume.CapsuleRadius >= 0.0)
+  {
+    // The box's bounding sphere against the capsule.
+    const Vec3 centre = (lo + hi) * 0.5;
+    const Vec3 d = centre - volume.CapsuleStart;
+    const double along = Dot(d, volume.CapsuleAxis);
+    const double length2 = SquaredLength(volume.CapsuleAxis);
+    const double t = along <= 0.0 ? 0.0 : (along >= length2 ? 1.0 : along / length2);
+    const double reach = volume.CapsuleRadius + 0.5 * Length(hi - lo);
+    if (SquaredLength(d - volume.CapsuleAxis * t) > reach * reach)
+    {
+      return true;
+    }
+  }
   for (const Plane& plane : volume.Planes)
   {
     if (BoxSupport(plane.Normal, lo, hi) < plane.Offset)
@@ -634,6 +648,7 @@ bool OccluderSet::BuildShaft(int shooterId, int receiverId, CullingVolume& shaft
   }
   const double tol = this->Tolerance;
   shaft.Planes.clear();
+  shaft.CapsuleRadius = -1.0;
   shaft.Planes.push_back({ s.Normal, s.Offset + tol });
   shaft.Planes.push_back({ r.Normal, r.Offset + tol });
   shaft.BoxMin = Vec3(std::min(s.BoundsMin.X, r.BoundsMin.X) - tol,
@@ -772,6 +787,7 @@ bool OccluderSet::BuildFrustum(const Vec3& x, const Vec3& n, int shooterId, Cull
   }
   const double tol = this->Tolerance;
   frustum.Planes.clear();
+  frustum.CapsuleRadius = -1.0;
   frustum.BoxMin = x;
   frustum.BoxMax = x;
   for (int k = 0; k < m; ++k)
@@ -798,6 +814,18 @@ bool OccluderSet::BuildFrustum(const Vec3& x, const Vec3& n, int shooterId, Cull
   }
   frustum.BoxMin -= Vec3(tol, tol, tol);
   frustum.BoxMax += Vec3(tol, tol, tol);
+  // The pyramid's points are (1 - t) x + t q with q on the shooter, within
+  // its hull radius of the centroid: within that of the segment x -> centroid.
+  double radius = 0.0;
+  const Vec3* hull = this->HullVertices.data() + s.FirstHullPoint;
+  for (int k = 0; k < nh; ++k)
+  {
+    radius = std::max(radius, SquaredLength(hull[k] - s.Centroid));
+  }
+  frustum.CapsuleStart = x;
+  frustum.CapsuleAxis = s.Centroid - x;
+  frustum.CapsuleRadius =
+    std::sqrt(radius) + 4.0 * tol + 1e-9 * (Length(frustum.CapsuleAxis) + std::sqrt(radius));
   return true;
 }
 

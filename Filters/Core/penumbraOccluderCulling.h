@@ -38,13 +38,20 @@ struct Plane
 /**
  * A convex culling volume: an axis-aligned box intersected with half-spaces.
  * A polygon lies outside when it is outside the box or entirely on the outer
- * side of one plane (Dot(Normal, p) < Offset for all its points).
+ * side of one plane (Dot(Normal, p) < Offset for all its points). A long
+ * thin volume (a pyramid from a point to a distant shooter) may also give a
+ * capsule that holds it, the points within CapsuleRadius of the segment
+ * CapsuleStart -> CapsuleStart + CapsuleAxis: boxes far from that segment
+ * are rejected by one distance instead of every plane.
  */
 struct CullingVolume
 {
   Vec3 BoxMin;               ///< lower corner of the box
   Vec3 BoxMax;               ///< upper corner of the box
   std::vector<Plane> Planes; ///< inner sides Dot(Normal, p) >= Offset
+  Vec3 CapsuleStart;
+  Vec3 CapsuleAxis;
+  double CapsuleRadius = -1.0; ///< negative: no capsule
 };
 
 /**

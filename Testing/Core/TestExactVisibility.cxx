@@ -1081,12 +1081,95 @@ void TestCulling()
   PENUMBRA_EXPECT(!set.BuildFrustum(Vec3(0, 0, 3), Vec3(0, 0, 1), 0, frustum));
 }
 
+// The capsule BuildFrustum puts around its pyramid only removes polygons
+// that miss the pyramid: among randomly placed and tilted quads, for thin
+// pyramids (points far from the light) and wide ones (points under it), the
+// candidates with the capsule are those without it (box and planes alone,
+// which keep some polygons that miss a thin pyramid) less polygons none of
+// whose points, on a 21 x 21 grid over each, lies in the pyramid.
+void TestCapsuleKeepsCandidates()
+{
+  const double h = 3.0;
+  Scene scene = LightAndFloor(h);
+  scene.Surfaces[1] = HorizontalRect(-40, 40, -40, 40, 0.0, 1.0);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 2000; ++i)
+  {
+    const Vec3 c(40.0 * u(rng), 40.0 * u(rng), 1.5 + 1.45 * u(rng));
+    const Vec3 a = penumbra::Normalized(Vec3(u(rng), u(rng), u(rng)));
+    const Vec3 b = penumbra::Normalized(Cross(a, Vec3(u(rng), u(rng), u(rng))));
+    const double size = 0.05 + 0.5 * (1.0 + u(rng));
+    scene.Surfaces.push_back(Polygon({ c - a * size - b * size, c + a * size - b * size,
+                                       c + a * size + b * size, c - a * size + b * size },
+      Cross(a, b)));
+  }
+  const penumbra::OccluderSet set(scene);
+  // In the pyramid from x (on the floor) to the light [-0.5, 0.5]^2 at height h.
+  const auto inPyramid = [h](const Vec3& x, const Vec3& p) {
+    const double s = p.Z / h;
+    if (!(s > 0.0 && s <= 1.0))
+    {
+      return false;
+    }
+    const Vec3 q = x + (p - x) / s;
+    return std::abs(q.X) <= 0.5 + 1e-9 && std::abs(q.Y) <= 0.5 + 1e-9;
+  };
+  penumbra::CullingVolume frustum;
+  std::vector<int> with, without;
+  long long kept = 0, removed = 0;
+  int queries = 0;
+  for (int k = 0; k < 500; ++k)
+  {
+    const double reach = k % 2 ? 40.0 : 1.0;
+    const Vec3 x(reach * u(rng), reach * u(rng), 0.0);
+    if (!set.BuildFrustum(x, Vec3(0, 0, 1), 0, frustum))
+    {
+      continue;
+    }
+    ++queries;
+    PENUMBRA_EXPECT(frustum.CapsuleRadius > 0.0);
+    set.VolumeCandidates(frustum, 0, 1, with);
+    frustum.CapsuleRadius = -1.0;
+    set.VolumeCandidates(frustum, 0, 1, without);
+    std::sort(with.begin(), with.end());
+    std::sort(without.begin(), without.end());
+    PENUMBRA_EXPECT(std::includes(without.begin(), without.end(), with.begin(), with.end()));
+    kept += static_cast<long long>(with.size());
+    for (const int id : without)
+    {
+      if (std::binary_search(with.begin(), with.end(), id))
+      {
+        continue;
+      }
+      ++removed;
+      const std::vector<Vec3>& v = scene.Surfaces[id].Vertices;
+      bool inside = false;
+      for (int i = 0; i <= 20 && !inside; ++i)
+      {
+        for (int j = 0; j <= 20 && !inside; ++j)
+        {
+          const double s = i / 20.0, t = j / 20.0;
+          const Vec3 p = (v[0] * (1 - s) + v[1] * s) * (1 - t) + (v[3] * (1 - s) + v[2] * s) * t;
+          inside = inPyramid(x, p);
+        }
+      }
+      PENUMBRA_EXPECT(!inside);
+    }
+  }
+  PENUMBRA_EXPECT(queries > 400);
+  PENUMBRA_EXPECT(kept > 0 && removed > 0);
+  std::printf("capsule: %d pyramids, %lld candidates kept, %lld that miss the pyramid removed\n",
+    queries, kept, removed);
+}
+
 } // namespace
 
 int main()
 {
   TestOneOccluderClosedForm();
   TestCulling();
+  TestCapsuleKeepsCandidates();
   TestDecomposition();
   TestNoAllocation();
   TestInclusionExclusion();
