@@ -5,7 +5,7 @@ boxes (penumbra.generators.box_room) of N polygons.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
         Benchmarks/scale_benchmark.py [--sizes 1000 5000 20000] [--threads 2] \\
-        [--indirect-samples N] [--no-reuse]
+        [--runs 3] [--indirect-samples N] [--no-reuse]
 
 Each size runs in its own process (so peak memory is that solve's alone):
 penumbra.solve(scene, unshot_fraction=0.01), i.e. direct light plus
@@ -13,7 +13,9 @@ interreflections until 1% of the emitted power is left unshot. Prints a
 Markdown table (polygons, wall time, peak resident memory, stage times,
 points shot on, shots)
 and the least-squares growth exponents of time and memory against the
-number of polygons, and draws a log-log chart into --out
+number of polygons, and draws a log-log chart into --out. With --runs R
+each size is solved R times (one process each) and the table gives the
+medians, with the range of the wall times
 (default build/benchmarks). Targets (issue 8): 20,000 polygons in under
 5 minutes and 4 GB on 2 cores. --indirect-samples sets the solver's
 MaximumIndirectSamples; --no-reuse turns its ReuseTransport off (weak
@@ -70,6 +72,8 @@ def main():
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000, 5000, 20000])
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--runs", type=int, default=1,
+                        help="solves per size; the table gives medians (default 1)")
     parser.add_argument("--timeout", type=float, default=3600.0,
                         help="seconds allowed per size before it is reported as not finished")
     parser.add_argument("--out", default=os.path.join(os.path.dirname(HERE), "build", "benchmarks"))
@@ -89,9 +93,10 @@ def main():
         return 0
 
     rows = []
-    print("| polygons | time (s) | peak memory (MB) | mesher / evaluator / shooter / "
+    print("| polygons | time (s, range) | peak memory (MB) | mesher / evaluator / shooter / "
           "reconstructor (s) | output points | points shot on | shots | unshot left |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    import statistics
     for size in args.sizes:
         command = [sys.executable, os.path.abspath(__file__), "--child", str(size),
                    "--threads", str(args.threads), "--seed", str(args.seed)]
@@ -99,22 +104,34 @@ def main():
             command += ["--indirect-samples", str(args.indirect_samples)]
         if args.no_reuse:
             command.append("--no-reuse")
-        try:
-            done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                  universal_newlines=True, timeout=args.timeout)
-        except subprocess.TimeoutExpired:
-            print("| %d | > %.0f (stopped) | | | | | | |" % (size, args.timeout), flush=True)
+        runs = []
+        for _ in range(max(1, args.runs)):
+            try:
+                done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                      universal_newlines=True, timeout=args.timeout)
+            except subprocess.TimeoutExpired:
+                print("| %d | > %.0f (stopped) | | | | | | |" % (size, args.timeout), flush=True)
+                break
+            if done.returncode != 0:
+                print("| %d | failed: %s | | | | | | |" % (
+                    size, (done.stderr.strip().splitlines() or ["?"])[-1]), flush=True)
+                break
+            runs.append(json.loads(done.stdout.strip().splitlines()[-1]))
+        if len(runs) < max(1, args.runs):
             continue
-        if done.returncode != 0:
-            print("| %d | failed: %s | | | | | | |" % (size, (done.stderr.strip().splitlines()
-                                                      or ["?"])[-1]), flush=True)
-            continue
-        row = json.loads(done.stdout.strip().splitlines()[-1])
+        # Medians over the runs (the scene and the output are the same each time).
+        row = dict(runs[0])
+        row["seconds"] = statistics.median(r["seconds"] for r in runs)
+        row["peak_mb"] = statistics.median(r["peak_mb"] for r in runs)
+        row["stages"] = {name: statistics.median(r["stages"].get(name, 0.0) for r in runs)
+                         for name in ("mesher", "evaluator", "shooter", "reconstructor")}
         rows.append(row)
-        stage = " / ".join("%.1f" % row["stages"].get(name, 0.0) for name in
+        stage = " / ".join("%.1f" % row["stages"][name] for name in
                            ("mesher", "evaluator", "shooter", "reconstructor"))
-        print("| %d | %.1f | %.0f | %s | %d | %d | %d | %.4f |" % (
-            row["polygons"], row["seconds"], row["peak_mb"], stage, row["output_points"],
+        spread = "" if len(runs) == 1 else " (%.1f-%.1f)" % (
+            min(r["seconds"] for r in runs), max(r["seconds"] for r in runs))
+        print("| %d | %.1f%s | %.0f | %s | %d | %d | %d | %.4f |" % (
+            row["polygons"], row["seconds"], spread, row["peak_mb"], stage, row["output_points"],
             row["indirect_samples"], row["shots"], row["unshot"]), flush=True)
     if not rows:
         return 1
@@ -142,7 +159,8 @@ def main():
     label = "default solve" if args.indirect_samples is None and not args.no_reuse else \
         "indirect samples %s%s" % (args.indirect_samples or "default",
                                    ", transport not reused" if args.no_reuse else "")
-    axis.set_title("%s, %d threads, unshot 1%%" % (label, args.threads))
+    axis.set_title("%s, %d threads, unshot 1%%%s" % (
+        label, args.threads, ", median of %d" % args.runs if args.runs > 1 else ""))
     axis.legend()
     axis.grid(True, which="both", alpha=0.3)
     path = os.path.join(args.out, "scale.png")

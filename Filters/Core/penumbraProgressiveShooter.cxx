@@ -97,6 +97,11 @@ struct Symmetric
       a.Z * (XZ * b.X + YZ * b.Y + ZZ * b.Z);
   }
   double Trace() const { return XX + YY + ZZ; }
+  /// M : G = sum_ij M_ij G_ij for a symmetric G.
+  double Contract(const Symmetric& g) const
+  {
+    return XX * g.XX + YY * g.YY + ZZ * g.ZZ + 2.0 * (XY * g.XY + XZ * g.XZ + YZ * g.YZ);
+  }
 };
 
 /// Moments of a radiance L over a set of triangles about an origin o, per
@@ -547,13 +552,19 @@ RGB Expansion(const Vec3& m, const RGB& power, const Vec3 dipole[3], const Symme
   const double s3 = s2 * r2;
   const double k = a * b / s2;
   const Vec3 gradient = u / s2 - d * (4.0 * a * b / s3);
+  // The Hessian, once for the three channels (M_c : H each).
+  Symmetric hessian;
+  hessian.AddOuter(n, m, -2.0 / s2);
+  hessian.AddOuter(u, d, -8.0 / s3);
+  hessian.AddOuter(d, d, 24.0 * a * b / (s2 * s2));
+  const double diagonal = -4.0 * a * b / s3;
+  hessian.XX += diagonal;
+  hessian.YY += diagonal;
+  hessian.ZZ += diagonal;
   RGB e;
   for (int c = 0; c < 3; ++c)
   {
-    const Symmetric& m2 = quadrupole[c];
-    const double hessian = -2.0 * m2.Form(n, m) / s2 - 8.0 * m2.Form(u, d) / s3 -
-      4.0 * a * b * m2.Trace() / s3 + 24.0 * a * b * m2.Form(d, d) / (s2 * s2);
-    e[c] = power[c] * k + Dot(gradient, dipole[c]) + 0.5 * hessian;
+    e[c] = power[c] * k + Dot(gradient, dipole[c]) + 0.5 * quadrupole[c].Contract(hessian);
   }
   return e;
 }
