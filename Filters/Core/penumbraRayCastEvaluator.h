@@ -135,7 +135,8 @@ public:
   /**
    * TraceFrom with one more ignored surface per target: the segment to
    * targets[i] also ignores surface targetSurfaces[i] (-1: none), e.g. the
-   * surface the target lies on. Thread-safe.
+   * surface the target lies on. Traced as one stream of single rays (many
+   * targets spread over the scene: faster than packets). Thread-safe.
    */
   void TraceFrom(const Vec3& origin, const Vec3* targets, const int* targetSurfaces, int count,
     unsigned char* occluded, int ignore) const;
