@@ -24,6 +24,7 @@ shots one orientation at a time, each tracing its rays).
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import time
@@ -96,7 +97,6 @@ def main():
     print("| polygons | time (s, range) | peak memory (MB) | mesher / evaluator / shooter / "
           "reconstructor (s) | output points | points shot on | shots | unshot left |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- |")
-    import statistics
     for size in args.sizes:
         command = [sys.executable, os.path.abspath(__file__), "--child", str(size),
                    "--threads", str(args.threads), "--seed", str(args.seed)]

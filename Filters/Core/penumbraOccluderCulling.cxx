@@ -399,6 +399,7 @@ void OccluderSet::Build(const Scene& scene)
     for (const Vec3& v : s.Vertices)
     {
       ExpandBox(poly.BoundsMin, poly.BoundsMax, v);
+      poly.Radius = std::max(poly.Radius, Length(v - poly.Centroid));
     }
     poly.FirstPiece = static_cast<int>(this->Pieces.size());
     poly.FirstHullPoint = static_cast<int>(this->HullVertices.size());
@@ -815,17 +816,11 @@ bool OccluderSet::BuildFrustum(const Vec3& x, const Vec3& n, int shooterId, Cull
   frustum.BoxMin -= Vec3(tol, tol, tol);
   frustum.BoxMax += Vec3(tol, tol, tol);
   // The pyramid's points are (1 - t) x + t q with q on the shooter, within
-  // its hull radius of the centroid: within that of the segment x -> centroid.
-  double radius = 0.0;
-  const Vec3* hull = this->HullVertices.data() + s.FirstHullPoint;
-  for (int k = 0; k < nh; ++k)
-  {
-    radius = std::max(radius, SquaredLength(hull[k] - s.Centroid));
-  }
+  // its radius of the centroid: within that of the segment x -> centroid.
   frustum.CapsuleStart = x;
   frustum.CapsuleAxis = s.Centroid - x;
   frustum.CapsuleRadius =
-    std::sqrt(radius) + 4.0 * tol + 1e-9 * (Length(frustum.CapsuleAxis) + std::sqrt(radius));
+    s.Radius + 4.0 * tol + 1e-9 * (Length(frustum.CapsuleAxis) + s.Radius);
   return true;
 }
 

@@ -77,6 +77,7 @@ struct PreparedPolygon
   double Offset = 0.0;   ///< plane: Dot(Normal, p) == Offset
   double Area = 0.0;     ///< area
   double Diameter = 0.0; ///< largest vertex distance
+  double Radius = 0.0;   ///< largest distance from Centroid to a vertex
   Vec3 Centroid;         ///< origin of the in-plane frame
   Vec3 AxisU;            ///< in-plane unit axis
   Vec3 AxisV;            ///< Cross(Normal, AxisU): (AxisU, AxisV, Normal) is right-handed

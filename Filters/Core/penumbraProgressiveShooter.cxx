@@ -90,13 +90,6 @@ struct Symmetric
     XZ += 0.5 * w * (a.X * b.Z + a.Z * b.X);
     YZ += 0.5 * w * (a.Y * b.Z + a.Z * b.Y);
   }
-  /// a^T M b.
-  double Form(const Vec3& a, const Vec3& b) const
-  {
-    return a.X * (XX * b.X + XY * b.Y + XZ * b.Z) + a.Y * (XY * b.X + YY * b.Y + YZ * b.Z) +
-      a.Z * (XZ * b.X + YZ * b.Y + ZZ * b.Z);
-  }
-  double Trace() const { return XX + YY + ZZ; }
   /// M : G = sum_ij M_ij G_ij for a symmetric G.
   double Contract(const Symmetric& g) const
   {
