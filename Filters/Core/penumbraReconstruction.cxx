@@ -29,6 +29,9 @@ constexpr int MaximumScalingsPerTriangle = 8;
 // The scale factor is shrunk by this relative amount so that the repaired
 // net stays non-negative after rounding.
 constexpr double ScaleMargin = 1e-9;
+// Net values this far below the samples' minimum, relative to the values
+// and gradients entering the net, are rounding, not negativity to repair.
+constexpr double NetRoundingSlack = 1e-12;
 // The cubic error model needs at least this many neighbours (9 unknowns).
 constexpr int CubicModelPoints = 12;
 // Barycentric tolerance of point location.
@@ -65,6 +68,7 @@ struct TriangleGeometry
   double Split[2];    // incentre position
   double GradB[3][2]; // gradients of the barycentric coordinates
   double Area2;       // twice the signed area
+  double Diameter;    // longest edge
 };
 
 // Control net of one triangle for one channel: 19 distinct control points.
@@ -137,6 +141,8 @@ struct Reconstruction::Internals
   std::vector<double> SectorFit;      // 5 * NC per sector: gu, gv, huu, huv, hvv
   std::vector<double> SectorModel;    // 9 * NC per sector: cubic error model
   std::vector<double> SectorGradient; // 2 * NC per sector, as used by the interpolant
+  // NC per triangle: rounding slack of the non-negativity repair (empty: no repair).
+  std::vector<double> NetSlack;
   // Point location grid.
   double GridOrigin[2] = { 0.0, 0.0 };
   double GridInverseCell[2] = { 0.0, 0.0 };
@@ -321,6 +327,7 @@ void Reconstruction::Internals::ComputeGeometry()
       g.GradB[i][1] = eu / g.Area2;
     }
     const double perimeter = len[0] + len[1] + len[2];
+    g.Diameter = std::max({ len[0], len[1], len[2] });
     g.Split[0] = 0.0;
     g.Split[1] = 0.0;
     for (int i = 0; i < 3; ++i)
@@ -1298,6 +1305,53 @@ void Reconstruction::Internals::EnforceNonNegativity()
       }
     }
   };
+  // Rounding slack per triangle and channel: a net this far below the
+  // samples' minimum is rounding, not negativity to repair (evaluation
+  // clamps it). Relative to the channel's largest value and to the values
+  // and gradients entering the net (gradient times the triangle's size),
+  // the largest gradient of each point over all its sectors: the tangential
+  // projections across order-1 edges mix the sectors' gradients (in an unlit
+  // sector next to a lit one a net of zeros came out -8e-18; repaired, that
+  // zeroed the lit sector's gradient too).
+  std::vector<double> largestValue(nc, 0.0);
+  for (int p = 0; p < np; ++p)
+  {
+    for (int c = 0; c < nc; ++c)
+    {
+      largestValue[c] = std::max(largestValue[c], std::abs(this->Value(p, c)));
+    }
+  }
+  std::vector<double> largestGradient(static_cast<std::size_t>(np) * nc, 0.0);
+  for (int t = 0; t < nt; ++t)
+  {
+    const int* tri = this->T(t);
+    for (int corner = 0; corner < 3; ++corner)
+    {
+      const std::size_t s = this->CornerSector[3 * t + corner];
+      for (int c = 0; c < nc; ++c)
+      {
+        double& g = largestGradient[static_cast<std::size_t>(tri[corner]) * nc + c];
+        g = std::max(g, std::hypot(base[(s * nc + c) * 2], base[(s * nc + c) * 2 + 1]));
+      }
+    }
+  }
+  this->NetSlack.assign(static_cast<std::size_t>(nt) * nc, 0.0);
+  for (int t = 0; t < nt; ++t)
+  {
+    const int* tri = this->T(t);
+    for (int c = 0; c < nc; ++c)
+    {
+      double magnitude = largestValue[c];
+      for (int i = 0; i < 3; ++i)
+      {
+        magnitude = std::max(magnitude,
+          std::abs(this->Value(tri[i], c)) +
+            this->Geometry[t].Diameter *
+              largestGradient[static_cast<std::size_t>(tri[i]) * nc + c]);
+      }
+      this->NetSlack[static_cast<std::size_t>(t) * nc + c] = NetRoundingSlack * magnitude;
+    }
+  }
   Net net, zero;
   double cur[19], low[19];
   int passes = nt > 0 ? 1 : 0;
@@ -1318,10 +1372,7 @@ void Reconstruction::Internals::EnforceNonNegativity()
       const double f1 = this->Value(tri[1], c);
       const double f2 = this->Value(tri[2], c);
       const double lowest = std::min(0.0, std::min(f0, std::min(f1, f2)));
-      // Rounding slack only when a sample is negative (off contract).
-      const double slack = lowest < 0.0
-        ? 1e-12 * std::max(std::abs(f0), std::max(std::abs(f1), std::abs(f2)))
-        : 0.0;
+      const double slack = this->NetSlack[static_cast<std::size_t>(t) * nc + c];
       this->ComputeNet(t, c, net);
       NetPoints(net, cur);
       double minimum = cur[0];
@@ -1491,6 +1542,18 @@ void Reconstruction::Internals::EvaluateWithNets(
     else
     {
       value[c] = EvaluateMicro(nets[c], k, x, y, z, nullptr, nullptr, nullptr);
+    }
+    if (!in.NetSlack.empty())
+    {
+      // The repair leaves nets up to a rounding slack below the samples'
+      // minimum (or 0): clamp that, and only that.
+      const double lowest = std::min(
+        { 0.0, in.Value(tri[0], c), in.Value(tri[1], c), in.Value(tri[2], c) });
+      if (value[c] < lowest &&
+        value[c] >= lowest - in.NetSlack[static_cast<std::size_t>(t) * nc + c])
+      {
+        value[c] = lowest;
+      }
     }
   }
 }

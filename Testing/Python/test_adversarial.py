@@ -270,13 +270,7 @@ def _floating():
     return Case("occluder 1e-6 above the receiver", [
         floor(), light(0.4, 0.4, 0.2, 0.2, 1.0),
         *box((0.3, gap, 0.3), (0.5, 0.2, 0.5))],
-        receivers=[0], focus=[(0, (0.25, -1, 0.25), (0.55, 1, 0.55))],
-        xfail="a regression of the evaluator's MaximumSampleSpacing (1/32 of the scene "
-              "diagonal): one point in the penumbra beside the box, (0.27, 0, 0.37), is "
-              "displayed 25% low (2.4% of the case's scale, over the 2% tolerance); with "
-              "spacing 0 or 1/50 the case passes. The cause (a triangle whose probes agree "
-              "with the interpolant while the radiance between them does not) is not found "
-              "yet")
+        receivers=[0], focus=[(0, (0.25, -1, 0.25), (0.55, 1, 0.55))])
 
 
 def _coplanar_overlap():
