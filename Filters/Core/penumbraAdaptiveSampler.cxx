@@ -619,8 +619,97 @@ struct Request
   int A = -1, B = -1;     // edge vertex ids, or the hint vertex of a centroid
   double U = 0.0, V = 0.0;
   bool Constrained = false;
+  double FeatureSize = HUGE_VAL; // feature size the new vertex inherits
   std::vector<const CandidateValue*> Values; // the new point's samples
 };
+
+/// A feature whose discontinuity lines are shorter than the receiver's
+/// diameter over this is refined down to MinimumFeatureSize times this times
+/// their length (instead of times the diameter). Measured (direct light,
+/// default settings): the adversarial "features 1e-4 of the scene size"
+/// case passes (max error 0.26% of its scale) from 1 to 10 and fails from 30
+/// (2.5%, at the standing cube's contact corners); the Cornell box's direct
+/// pass takes 2% more evaluations at 10, 7% at 3, 17% at 1.
+constexpr double FeatureNeighbourhood = 10.0;
+/// No triangle narrower, or edge shorter, than this fraction of the
+/// receiver's diameter is refined, whatever MinimumFeatureSize (0 included):
+/// far below any feature, above rounding in the plane's coordinates.
+constexpr double NumericalWidth = 1e-9;
+
+/// Per vertex id: the length of the shortest discontinuity line through it
+/// (collinear chains of order 0-2 segments, joined across the points that
+/// split them), HUGE_VAL on none. A line is as long as the shadow-casting
+/// feature is large (a 1e-4 occluder casts lines of about 1e-4), so this is
+/// the local size of what is to be resolved.
+std::vector<double> DiscontinuityLineLengths(const Receiver& rec)
+{
+  const auto& segments = rec.Snap.Segments;
+  const int ns = static_cast<int>(segments.size());
+  const int nv = static_cast<int>(rec.Snap.Vertices.size());
+  std::vector<int> parent(ns);
+  for (int i = 0; i < ns; ++i)
+  {
+    parent[i] = i;
+  }
+  auto root = [&parent](int i) {
+    while (parent[i] != i)
+    {
+      parent[i] = parent[parent[i]];
+      i = parent[i];
+    }
+    return i;
+  };
+  std::vector<std::vector<int>> incident(nv);
+  std::vector<double> length(ns, 0.0);
+  for (int i = 0; i < ns; ++i)
+  {
+    const auto& seg = segments[i];
+    if (seg.Order < 0)
+    {
+      continue;
+    }
+    const P2 a = rec.Vertex(seg.VertexA), b = rec.Vertex(seg.VertexB);
+    length[i] = std::hypot(b[0] - a[0], b[1] - a[1]);
+    incident[seg.VertexA].push_back(i);
+    incident[seg.VertexB].push_back(i);
+  }
+  // Join segments meeting at a vertex in a straight line (opposite directions).
+  for (int v = 0; v < nv; ++v)
+  {
+    const auto& list = incident[v];
+    for (std::size_t x = 0; x < list.size(); ++x)
+    {
+      for (std::size_t y = x + 1; y < list.size(); ++y)
+      {
+        const auto& s1 = segments[list[x]];
+        const auto& s2 = segments[list[y]];
+        const P2 o = rec.Vertex(v);
+        const P2 p = rec.Vertex(s1.VertexA == v ? s1.VertexB : s1.VertexA);
+        const P2 q = rec.Vertex(s2.VertexA == v ? s2.VertexB : s2.VertexA);
+        const double ux = p[0] - o[0], uy = p[1] - o[1], wx = q[0] - o[0], wy = q[1] - o[1];
+        const double scale = length[list[x]] * length[list[y]];
+        if (ux * wx + uy * wy < 0.0 && std::abs(Cross2(ux, uy, wx, wy)) <= 1e-9 * scale)
+        {
+          parent[root(list[x])] = root(list[y]);
+        }
+      }
+    }
+  }
+  std::vector<double> chain(ns, 0.0);
+  for (int i = 0; i < ns; ++i)
+  {
+    chain[root(i)] += length[i];
+  }
+  std::vector<double> out(nv, HUGE_VAL);
+  for (int v = 0; v < nv; ++v)
+  {
+    for (int i : incident[v])
+    {
+      out[v] = std::min(out[v], chain[root(i)]);
+    }
+  }
+  return out;
+}
 
 /// Splits every segment longer than `spacing` into equal pieces no longer
 /// than it (new points appended, on the segment; pieces keep its labels).
@@ -701,6 +790,15 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
   }
   const double minimumWidth =
     settings.MinimumFeatureSize * std::min(rec.Diameter, 2.0 * area / rec.Diameter);
+  // Near small features the floor is smaller: a feature whose discontinuity
+  // lines are shorter than 1/FeatureNeighbourhood of the receiver is refined
+  // as a receiver FeatureNeighbourhood times their length would be, i.e. to
+  // the same fraction of its own size. Inserted vertices take the smallest
+  // line length of the vertices they are inserted between.
+  std::vector<double> featureSize = DiscontinuityLineLengths(rec);
+  // No refinement below rounding: a triangle this narrow (relative to the
+  // receiver's diameter) may come out degenerate in the plane's doubles.
+  const double roundingWidth = NumericalWidth * rec.Diameter;
   // Candidate 0 is the centroid, 1..3 the edge midpoints.
   const int firstCandidate = settings.ProbeCentroids ? 0 : 1;
   std::unordered_map<CandidateKey, CandidateValue, CandidateKeyHash> cache;
@@ -1052,14 +1150,19 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
       const P2 p0 = rec.Vertex(v[0]), p1 = rec.Vertex(v[1]), p2 = rec.Vertex(v[2]);
       const double width =
         std::abs(Cross2(p1[0] - p0[0], p1[1] - p0[1], p2[0] - p0[0], p2[1] - p0[1])) / longest;
-      if (width < minimumWidth)
+      const double triangleFeature =
+        std::min({ featureSize[v[0]], featureSize[v[1]], featureSize[v[2]] });
+      const double local = std::max(roundingWidth,
+        settings.MinimumFeatureSize * FeatureNeighbourhood * triangleFeature);
+      if (width < std::min(minimumWidth, local) || width < roundingWidth)
       {
         continue;
       }
       bool edgeInserted = false;
       for (int k = 0; k < 3; ++k)
       {
-        if (!(s[k + 1] > 1.0) || length[k] < minimumSize)
+        if (!(s[k + 1] > 1.0) || length[k] < std::min(minimumSize, local) ||
+          length[k] < roundingWidth)
         {
           continue;
         }
@@ -1088,6 +1191,7 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
         r.U = 0.5 * (pa[0] + pb[0]);
         r.V = 0.5 * (pa[1] + pb[1]);
         r.Constrained = rec.Snap.TriangleSegments[t][k] >= 0;
+        r.FeatureSize = std::min(featureSize[a], featureSize[b]);
         r.Values.push_back(candidates[t][k + 1]);
         edgeRequest.emplace(pair, static_cast<int>(requests.size()));
         requests.push_back(std::move(r));
@@ -1101,6 +1205,7 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
         const P2 a = rec.Vertex(v[0]), b = rec.Vertex(v[1]), d = rec.Vertex(v[2]);
         r.U = (a[0] + b[0] + d[0]) / 3.0;
         r.V = (a[1] + b[1] + d[1]) / 3.0;
+        r.FeatureSize = triangleFeature;
         r.Values.push_back(candidates[t][0]);
         requests.push_back(std::move(r));
       }
@@ -1182,6 +1287,11 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
       {
         rec.Samples.resize(id + 1);
       }
+      if (static_cast<int>(featureSize.size()) <= id)
+      {
+        featureSize.resize(id + 1, HUGE_VAL);
+      }
+      featureSize[id] = r.FeatureSize;
       for (const CandidateValue* value : r.Values)
       {
         SideSample s;

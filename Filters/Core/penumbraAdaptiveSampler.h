@@ -88,8 +88,9 @@
  * vertex inside one side (the contact corners of the Cornell blocks, where
  * penumbrae shrink to nothing) the radiance has no limit at the vertex; its
  * single value is the limit from the direction chosen above, and the
- * triangles around it stop refining at MinimumFeatureSize (the residuals
- * left there are reported in the probes and in UnrefinedFailures).
+ * triangles around it stop refining at MinimumFeatureSize, relative to the
+ * receiver or, near a small feature, to the feature (the residuals left
+ * there are reported in the probes and in UnrefinedFailures).
  *
  * Also a uniform baseline for comparisons (SampleReceiverUniform): the same
  * receiver with about N samples on a square grid, triangulated with only the
@@ -140,10 +141,16 @@ struct AdaptiveSamplingSettings
   /// diagonal): triangles narrower than this (smallest altitude) are not
   /// refined, nor edges shorter than it split. For a receiver narrower than
   /// it is long, the width bound is this fraction of its width (2 area /
-  /// diameter) instead, so a thin strip is still refined along its length. Bounds the cost at features
-  /// no finite sampling resolves (penumbrae shrinking to nothing at contact
-  /// corners, slivers between nearly coincident lines, unmeshed EEE curves).
-  /// [1e-4], in [0, 1]
+  /// diameter) instead, so a thin strip is still refined along its length.
+  /// Near a small feature, one whose discontinuity lines are shorter than a
+  /// tenth of the receiver's diameter (e.g. the shadow of an occluder 1e-4
+  /// the receiver's size), the bound is this fraction of ten times their
+  /// length instead: a feature is resolved to the same fraction of its own
+  /// size, whatever its size. Bounds the cost at features no finite sampling
+  /// resolves (penumbrae shrinking to nothing at contact corners, slivers
+  /// between nearly coincident lines, unmeshed EEE curves). Whatever the
+  /// value, 0 included, nothing narrower than 1e-9 of the diameter is
+  /// refined (rounding). [1e-4], in [0, 1]
   double MinimumFeatureSize = 1e-4;
   /// Longest edge allowed, in scene units (absolute, so that a caller can
   /// give all receivers one sample spacing): longer edges are split whatever

@@ -159,7 +159,11 @@ public:
   /**
    * Triangles narrower than this fraction of their surface's diameter are
    * not refined (features no finite sampling resolves, such as penumbrae
-   * shrinking to a point at a contact corner). Default 1e-4, range [0, 1].
+   * shrinking to a point at a contact corner). Near a feature whose shadow
+   * lines are shorter than a tenth of the surface's diameter, the fraction
+   * is of ten times their length instead, so small features are resolved
+   * like large ones (penumbra::AdaptiveSamplingSettings::MinimumFeatureSize).
+   * Default 1e-4, range [0, 1].
    */
   vtkSetClampMacro(MinimumFeatureSize, double, 0.0, 1.0);
   vtkGetMacro(MinimumFeatureSize, double);

@@ -905,6 +905,140 @@ void TestThinStripIsRefined()
 }
 
 //------------------------------------------------------------------------------
+// The unit square around a small square [c, c + a]^2 of order-1 lines (the
+// shadow lines a small occluder casts).
+ReceiverMesh SmallFeatureMesh(double c, double a)
+{
+  ReceiverMesh m;
+  m.ReceiverId = 0;
+  const Vec3 outer[4] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 } };
+  const Vec3 inner[4] = { { c, c, 0 }, { c + a, c, 0 }, { c + a, c + a, 0 }, { c, c + a, 0 } };
+  for (int k = 0; k < 4; ++k)
+  {
+    m.Points.push_back(outer[k]);
+    m.PointVertex.push_back(k);
+  }
+  for (int k = 0; k < 4; ++k)
+  {
+    m.Points.push_back(inner[k]);
+    m.PointVertex.push_back(4 + k);
+  }
+  for (int k = 0; k < 4; ++k)
+  {
+    const int n = (k + 1) % 4;
+    m.Triangles.push_back({ k, n, 4 + n });
+    m.Triangles.push_back({ k, 4 + n, 4 + k });
+  }
+  m.Triangles.push_back({ 4, 5, 6 });
+  m.Triangles.push_back({ 4, 6, 7 });
+  for (int k = 0; k < 4; ++k)
+  {
+    for (int ring = 0; ring < 2; ++ring)
+    {
+      DiscontinuitySegment s;
+      s.PointA = 4 * ring + k;
+      s.PointB = 4 * ring + (k + 1) % 4;
+      s.A = m.Points[s.PointA];
+      s.B = m.Points[s.PointB];
+      s.Order = ring == 0 ? -1 : 1;
+      s.SourceId = ring == 0 ? -1 : 7;
+      s.ReceiverId = 0;
+      m.Segments.push_back(s);
+    }
+  }
+  return m;
+}
+
+//------------------------------------------------------------------------------
+// A feature 1e-4 the receiver's size, below the default MinimumFeatureSize
+// of the receiver (1e-4 of its diameter, 1.4e-4): its discontinuity lines
+// mark it, and it is refined to the tolerance like a large one. A bump of
+// that size centred in it is checked at random points around it.
+void TestSmallFeatureIsResolved()
+{
+  const double c = 0.3, a = 1e-4;
+  const ReceiverMesh mesh = SmallFeatureMesh(c, a);
+  const Vec3 centre(c + 0.5 * a, c + 0.5 * a, 0.0);
+  auto bump = [&](const Vec3& p) {
+    const double dx = (p.X - centre.X) / a, dy = (p.Y - centre.Y) / a;
+    return 0.2 + std::exp(-4.0 * (dx * dx + dy * dy));
+  };
+  const AdaptiveSamplingResult r = SampleReceiver(mesh, Batch(bump));
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> around(-a, 2.0 * a);
+  std::vector<Vec3> points(4000);
+  std::vector<double> exact(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    points[i] = Vec3(c + around(rng), c + around(rng), 0.0);
+    exact[i] = bump(points[i]);
+  }
+  // Relative to the tolerance's reference (the receiver's mean radiance).
+  const double reference = r.ReferenceRadiance.R;
+  const ErrorStats e =
+    MeasureErrors(r, ReconstructionMode::CloughTocher, points, exact, reference);
+  const double tolerance = AdaptiveSamplingSettings().RelativeTolerance;
+  std::printf("feature 1e-4 of the receiver: %d -> %d samples, %d passes, converged %d; "
+              "around it error max %.2e, RMS %.2e of the mean (tolerance %.0e)\n",
+    r.Statistics.InitialSamples, r.Statistics.Samples, r.Statistics.Passes,
+    static_cast<int>(r.Statistics.Converged), e.Max, e.Rms, tolerance);
+  PENUMBRA_EXPECT(r.Statistics.Converged);
+  PENUMBRA_EXPECT(e.Max < 5.0 * tolerance);
+}
+
+//------------------------------------------------------------------------------
+// MinimumFeatureSize 0 with a singular point (the value depends on the
+// direction from it, as at a contact corner): refinement never converges and
+// must stop above rounding. It once split triangles until they were
+// degenerate, and the interpolant refused them.
+void TestZeroMinimumFeatureSizeStops()
+{
+  const ReceiverMesh mesh = StripMesh({ 0.5 }, { 1 }, 2);
+  auto fan = [](const Vec3& p) {
+    return 1.0 + 0.5 * std::sin(3.0 * std::atan2(p.Y - 0.5, p.X - 0.5));
+  };
+  AdaptiveSamplingSettings settings;
+  settings.MinimumFeatureSize = 0.0;
+  settings.MaximumPasses = 10000;
+  const AdaptiveSamplingResult r = SampleReceiver(mesh, Batch(fan), settings);
+  double narrowest = HUGE_VAL;
+  const auto& m = r.Samples;
+  for (int t = 0; t < m.GetNumberOfTriangles(); ++t)
+  {
+    const double* p[3];
+    double longest = 0.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      p[k] = &m.Points[2 * m.Triangles[3 * t + k]];
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      longest = std::max(longest, std::hypot(p[(k + 1) % 3][0] - p[k][0], p[(k + 1) % 3][1] - p[k][1]));
+    }
+    const double area2 = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
+      (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+    narrowest = std::min(narrowest, area2 / longest);
+  }
+  bool built = true;
+  try
+  {
+    Reconstruction interpolant;
+    interpolant.Build(r.Samples, ReconstructionOptions());
+  }
+  catch (const InputError&)
+  {
+    built = false;
+  }
+  std::printf("singular point, MinimumFeatureSize 0: %d samples, %d passes, narrowest "
+              "triangle %.2e, interpolant built %d\n",
+    r.Statistics.Samples, r.Statistics.Passes, narrowest, static_cast<int>(built));
+  PENUMBRA_EXPECT(built);
+  PENUMBRA_EXPECT(narrowest > 1e-10);
+  PENUMBRA_EXPECT(!r.Statistics.BudgetReached);
+  PENUMBRA_EXPECT(r.Statistics.Passes < settings.MaximumPasses);
+}
+
+//------------------------------------------------------------------------------
 // Settings and input errors.
 void TestBadInput()
 {
@@ -941,6 +1075,8 @@ int main()
   TestDirectAccuracy();
   TestUniformSamplesTheOutline();
   TestThinStripIsRefined();
+  TestSmallFeatureIsResolved();
+  TestZeroMinimumFeatureSizeStops();
   TestBadInput();
   return testing::Result();
 }

@@ -347,13 +347,7 @@ def _tiny_features():
         *box((0.3, size, 0.3), (0.3 + size, 2 * size, 0.3 + size))],
         receivers=[0], dark_regions=[(0, (0.5, -1, 0.5), (0.5 + size, 1, 0.5 + size))],
         focus=[(0, (0.5 - size, -1, 0.5 - size), (0.5 + 2 * size, 1, 0.5 + 2 * size)),
-               (0, (0.3 - size, -1, 0.3 - size), (0.3 + 2 * size, 1, 0.3 + 2 * size))],
-        xfail="adaptive sampling stops at triangles narrower than MinimumFeatureSize, 1e-4 "
-              "of the receiver's diameter (1.4e-4 here): the floating cube's 1e-4 shadow is "
-              "not refined (39% error beside it). MinimumFeatureSize 1e-5 resolves it but "
-              "costs the Cornell box's direct pass 18% more samples and 40% more time; the "
-              "standing cube's corners are singular points (penumbrae fanning out from a "
-              "point) that no finite sampling resolves (still 9% at 3e-6)")
+               (0, (0.3 - size, -1, 0.3 - size), (0.3 + 2 * size, 1, 0.3 + 2 * size))])
 
 
 def _offset():
