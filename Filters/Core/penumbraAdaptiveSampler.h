@@ -149,8 +149,9 @@ struct AdaptiveSamplingSettings
   /// size, whatever its size. Bounds the cost at features no finite sampling
   /// resolves (penumbrae shrinking to nothing at contact corners, slivers
   /// between nearly coincident lines, unmeshed EEE curves). Whatever the
-  /// value, 0 included, nothing narrower than 1e-9 of the diameter is
-  /// refined (rounding). [1e-4], in [0, 1]
+  /// value, 0 included, nothing narrower than 1e-9 of the diameter, or than
+  /// 2.2e-9 of the receiver's largest coordinate (1e7 ulps: the output is
+  /// written in 3D and projected again), is refined. [1e-4], in [0, 1]
   double MinimumFeatureSize = 1e-4;
   /// Longest edge allowed, in scene units (absolute, so that a caller can
   /// give all receivers one sample spacing): longer edges are split whatever

@@ -54,11 +54,16 @@
  *    largest common factor that makes the net non-negative. The factor is
  *    per point and channel, shared by all sectors of the point, so C1 inside
  *    regions and C0 across order-1 lines are kept. Repeated until every net
- *    is non-negative in floating point (it terminates: a triangle whose
- *    corners all have zero gradients is non-negative). Non-negative samples
- *    therefore always give a non-negative interpolant, evaluated exactly as
- *    checked; a triangle with a negative sample (off contract) is only kept
- *    above its smallest sample, up to rounding.
+ *    is non-negative up to rounding (it terminates: a triangle whose
+ *    corners all have zero gradients is non-negative). Rounding is a slack
+ *    of 1e-12 of the largest of the channel's values and of the corners'
+ *    values plus gradient times the triangle's size, the gradient being the
+ *    largest over the point's sectors: the projections across order-1 lines
+ *    mix the sectors' gradients, and a net of zeros next to a lit sector came
+ *    out at -8e-18; repaired, that zeroed the lit sector's gradient too. What
+ *    the slack lets through is clamped at evaluation, so non-negative samples
+ *    always give a non-negative interpolant; a triangle with a negative
+ *    sample (off contract) is kept above its smallest sample.
  *
  * Mode Linear is plain linear interpolation of the samples over each
  * triangle (for comparison; it has Mach bands).

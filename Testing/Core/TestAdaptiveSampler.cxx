@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <map>
 #include <random>
 #include <string>
@@ -987,6 +988,53 @@ void TestSmallFeatureIsResolved()
 }
 
 //------------------------------------------------------------------------------
+// The same small feature far from the origin (coordinates 1e4): refinement
+// stops 1e7 ulps above the coordinates' rounding, so the output, written in
+// 3D and projected again (as vtkRadianceReconstructor does), keeps every
+// triangle counter-clockwise. Refined down to the feature's floor (1e-7
+// here), slivers came back flat or flipped (a 1,000-polygon room's
+// evaluator output was refused by the reconstructor).
+void TestRefinementStaysAboveRounding()
+{
+  const double offset = 1e4, c = 0.3, a = 1e-4;
+  ReceiverMesh mesh = SmallFeatureMesh(c, a);
+  for (Vec3& p : mesh.Points)
+  {
+    p = p + Vec3(offset, offset, 0.0);
+  }
+  for (DiscontinuitySegment& segment : mesh.Segments)
+  {
+    segment.A = mesh.Points[segment.PointA];
+    segment.B = mesh.Points[segment.PointB];
+  }
+  const Vec3 centre(offset + c + 0.5 * a, offset + c + 0.5 * a, 0.0);
+  auto bump = [&](const Vec3& p) {
+    const double dx = (p.X - centre.X) / a, dy = (p.Y - centre.Y) / a;
+    return 0.2 + std::exp(-4.0 * (dx * dx + dy * dy));
+  };
+  const AdaptiveSamplingResult r = SampleReceiver(mesh, Batch(bump));
+  const double ulp = std::numeric_limits<double>::epsilon() * (offset + 1.0);
+  double narrowest = HUGE_VAL;
+  int flipped = 0;
+  const Vec3 origin = r.Mesh.Points[r.Mesh.Triangles[0][0]];
+  for (const auto& t : r.Mesh.Triangles)
+  {
+    // Projected from 3D onto x, y about another origin, as a reader would.
+    const Vec3 p0 = r.Mesh.Points[t[0]] - origin, p1 = r.Mesh.Points[t[1]] - origin,
+               p2 = r.Mesh.Points[t[2]] - origin;
+    const double area2 = (p1.X - p0.X) * (p2.Y - p0.Y) - (p1.Y - p0.Y) * (p2.X - p0.X);
+    const double longest = std::max({ Length(p1 - p0), Length(p2 - p1), Length(p0 - p2) });
+    flipped += area2 <= 0.0;
+    narrowest = std::min(narrowest, area2 / longest);
+  }
+  std::printf("feature 1e-4 at coordinates 1e4: %d -> %d samples; narrowest triangle %.3g "
+              "(%.3g ulps of the coordinates), %d flat or flipped\n",
+    r.Statistics.InitialSamples, r.Statistics.Samples, narrowest, narrowest / ulp, flipped);
+  PENUMBRA_EXPECT(flipped == 0);
+  PENUMBRA_EXPECT(narrowest > 1e5 * ulp);
+}
+
+//------------------------------------------------------------------------------
 // MinimumFeatureSize 0 with a singular point (the value depends on the
 // direction from it, as at a contact corner): refinement never converges and
 // must stop above rounding. It once split triangles until they were
@@ -1076,6 +1124,7 @@ int main()
   TestUniformSamplesTheOutline();
   TestThinStripIsRefined();
   TestSmallFeatureIsResolved();
+  TestRefinementStaysAboveRounding();
   TestZeroMinimumFeatureSizeStops();
   TestBadInput();
   return testing::Result();
