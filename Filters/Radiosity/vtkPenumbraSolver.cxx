@@ -56,7 +56,25 @@ void OnStageProgress(vtkObject* caller, unsigned long, void* clientData, void*)
 void OnStageError(vtkObject*, unsigned long, void* clientData, void* callData)
 {
   auto* observer = static_cast<StageObserver*>(clientData);
-  observer->Error = callData ? static_cast<const char*>(callData) : "unknown error";
+  std::string message = callData ? static_cast<const char*>(callData) : "unknown error";
+  // vtkErrorMacro's event text is "ERROR: In <file>, line <n>\n<class> (<this>):
+  // <text>\n\n": keep the text, which the solver's own error then names by stage
+  // (relayed whole, a reader that splits messages at "ERROR: In" kept only the
+  // file and line).
+  if (message.compare(0, 10, "ERROR: In ") == 0)
+  {
+    const std::size_t line = message.find('\n');
+    const std::size_t text = line == std::string::npos ? line : message.find("): ", line);
+    if (text != std::string::npos)
+    {
+      message = message.substr(text + 3);
+    }
+  }
+  while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
+  {
+    message.pop_back();
+  }
+  observer->Error = message.empty() ? "unknown error" : message;
 }
 } // namespace
 

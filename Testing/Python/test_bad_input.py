@@ -79,6 +79,20 @@ def test_string_reflectance_is_rejected(tmp_path):
         penumbra.load_scene(_write(data, tmp_path / "strings.vtp", ascii=True))
 
 
+
+def test_solver_relays_a_stage_error_whole():
+    # vtkPenumbraSolver used directly, without the validator penumbra.solve
+    # runs first: the mesher's error reaches the caller named by its stage and
+    # with its text (it once arrived as the mesher's file and line only).
+    data = _scene([SQUARE])
+    data.GetCellData().RemoveArray("Reflectance")
+    solver = penumbra.vtkPenumbraSolver()
+    solver.SetInputData(data)
+    with pytest.raises(penumbra.PenumbraError) as error:
+        penumbra.run_filter(solver)
+    assert str(error.value).startswith("mesher: missing cell array 'Reflectance'"), str(error.value)
+    assert "ERROR: In" not in str(error.value)
+
 def test_non_numeric_and_huge_counts_in_a_vtp(tmp_path):
     text = open(_write(_scene([SQUARE]), tmp_path / "a.vtp", ascii=True)).read()
     cases = {
