@@ -3,6 +3,7 @@
 
 #include "penumbraReceiverTriangulation.h"
 #include "penumbraScene.h" // InputError
+#include "penumbraUnionFind.h"
 
 #include <algorithm>
 #include <array>
@@ -43,6 +44,7 @@ inline double Channel(const RGB& c, int k)
 struct Frame
 {
   Vec3 Origin, U, V, N;
+  double LargestCoordinate = 0.0; // largest |coordinate| of the mesh's points
   Vec3 To3D(double u, double v) const { return this->Origin + u * this->U + v * this->V; }
   P2 To2D(const Vec3& p) const
   {
@@ -149,6 +151,8 @@ Frame MakeFrame(const ReceiverMesh& mesh)
     lo = Vec3(std::min(lo.X, p.X), std::min(lo.Y, p.Y), std::min(lo.Z, p.Z));
     hi = Vec3(std::max(hi.X, p.X), std::max(hi.Y, p.Y), std::max(hi.Z, p.Z));
   }
+  f.LargestCoordinate = std::max({ std::abs(lo.X), std::abs(lo.Y), std::abs(lo.Z), std::abs(hi.X),
+    std::abs(hi.Y), std::abs(hi.Z) });
   // The box centre is off the plane of a tilted receiver: project it, or
   // every point mapped back from the frame would lie beside the receiver.
   const Vec3 centre = 0.5 * (lo + hi);
@@ -186,6 +190,7 @@ struct Receiver
   double SideOffset = 1e-9;
   std::vector<Vec3> Vertex3; // per vertex id (input ones exact)
   std::vector<std::vector<SideSample>> Samples; // per vertex id
+  std::vector<double> FeatureSize; // per vertex id: see DiscontinuityLineLengths
   std::unique_ptr<detail::RefinableTriangulation> Tri;
   detail::RefinableSnapshot Snap;
   std::vector<int> CornerStart, Corners; // per point: (triangle * 3 + corner) list
@@ -656,19 +661,7 @@ std::vector<double> DiscontinuityLineLengths(const Receiver& rec)
   const auto& segments = rec.Snap.Segments;
   const int ns = static_cast<int>(segments.size());
   const int nv = static_cast<int>(rec.Snap.Vertices.size());
-  std::vector<int> parent(ns);
-  for (int i = 0; i < ns; ++i)
-  {
-    parent[i] = i;
-  }
-  auto root = [&parent](int i) {
-    while (parent[i] != i)
-    {
-      parent[i] = parent[parent[i]];
-      i = parent[i];
-    }
-    return i;
-  };
+  detail::UnionFind lines(ns);
   std::vector<std::vector<int>> incident(nv);
   std::vector<double> length(ns, 0.0);
   for (int i = 0; i < ns; ++i)
@@ -687,20 +680,20 @@ std::vector<double> DiscontinuityLineLengths(const Receiver& rec)
   for (int v = 0; v < nv; ++v)
   {
     const auto& list = incident[v];
+    const P2 o = rec.Vertex(v);
     for (std::size_t x = 0; x < list.size(); ++x)
     {
       for (std::size_t y = x + 1; y < list.size(); ++y)
       {
         const auto& s1 = segments[list[x]];
         const auto& s2 = segments[list[y]];
-        const P2 o = rec.Vertex(v);
         const P2 p = rec.Vertex(s1.VertexA == v ? s1.VertexB : s1.VertexA);
         const P2 q = rec.Vertex(s2.VertexA == v ? s2.VertexB : s2.VertexA);
         const double ux = p[0] - o[0], uy = p[1] - o[1], wx = q[0] - o[0], wy = q[1] - o[1];
         const double scale = length[list[x]] * length[list[y]];
         if (ux * wx + uy * wy < 0.0 && std::abs(Cross2(ux, uy, wx, wy)) <= 1e-9 * scale)
         {
-          parent[root(list[x])] = root(list[y]);
+          lines.Union(list[x], list[y]);
         }
       }
     }
@@ -708,7 +701,7 @@ std::vector<double> DiscontinuityLineLengths(const Receiver& rec)
   std::vector<double> chain(ns, 0.0);
   for (int i = 0; i < ns; ++i)
   {
-    chain[root(i)] += length[i];
+    chain[lines.Find(i)] += length[i];
   }
   std::vector<double> out(nv, HUGE_VAL);
   for (int v = 0; v < nv; ++v)
@@ -719,7 +712,7 @@ std::vector<double> DiscontinuityLineLengths(const Receiver& rec)
     }
     for (int i : incident[v])
     {
-      out[v] = std::max(out[v], chain[root(i)]);
+      out[v] = std::max(out[v], chain[lines.Find(i)]);
     }
   }
   return out;
@@ -809,17 +802,10 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
   // as a receiver FeatureNeighbourhood times their length would be, i.e. to
   // the same fraction of its own size. Inserted vertices take the smallest
   // line length of the vertices they are inserted between.
-  std::vector<double> featureSize = DiscontinuityLineLengths(rec);
-  // No refinement below rounding: a triangle this narrow (relative to the
-  // receiver's diameter) may come out degenerate in the plane's doubles.
-  double largestCoordinate = 0.0;
-  for (const Vec3& p : mesh.Points)
-  {
-    largestCoordinate =
-      std::max({ largestCoordinate, std::abs(p.X), std::abs(p.Y), std::abs(p.Z) });
-  }
+  rec.FeatureSize = DiscontinuityLineLengths(rec);
+  // No refinement below rounding.
   const double roundingWidth =
-    std::max(NumericalWidth * rec.Diameter, CoordinateRounding * largestCoordinate);
+    std::max(NumericalWidth * rec.Diameter, CoordinateRounding * rec.F.LargestCoordinate);
   // Candidate 0 is the centroid, 1..3 the edge midpoints.
   const int firstCandidate = settings.ProbeCentroids ? 0 : 1;
   std::unordered_map<CandidateKey, CandidateValue, CandidateKeyHash> cache;
@@ -1172,16 +1158,18 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
       const double width =
         std::abs(Cross2(p1[0] - p0[0], p1[1] - p0[1], p2[0] - p0[0], p2[1] - p0[1])) / longest;
       const double triangleFeature =
-        std::min({ featureSize[v[0]], featureSize[v[1]], featureSize[v[2]] });
+        std::min({ rec.FeatureSize[v[0]], rec.FeatureSize[v[1]], rec.FeatureSize[v[2]] });
       const double local = settings.MinimumFeatureSize * FeatureNeighbourhood * triangleFeature;
-      if (width < std::max(roundingWidth, std::min(minimumWidth, local)))
+      const double widthFloor = std::max(roundingWidth, std::min(minimumWidth, local));
+      const double lengthFloor = std::max(roundingWidth, std::min(minimumSize, local));
+      if (width < widthFloor)
       {
         continue;
       }
       bool edgeInserted = false;
       for (int k = 0; k < 3; ++k)
       {
-        if (!(s[k + 1] > 1.0) || length[k] < std::max(roundingWidth, std::min(minimumSize, local)))
+        if (!(s[k + 1] > 1.0) || length[k] < lengthFloor)
         {
           continue;
         }
@@ -1210,7 +1198,7 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
         r.U = 0.5 * (pa[0] + pb[0]);
         r.V = 0.5 * (pa[1] + pb[1]);
         r.Constrained = rec.Snap.TriangleSegments[t][k] >= 0;
-        r.FeatureSize = std::min(featureSize[a], featureSize[b]);
+        r.FeatureSize = std::min(rec.FeatureSize[a], rec.FeatureSize[b]);
         r.Values.push_back(candidates[t][k + 1]);
         edgeRequest.emplace(pair, static_cast<int>(requests.size()));
         requests.push_back(std::move(r));
@@ -1306,11 +1294,11 @@ AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
       {
         rec.Samples.resize(id + 1);
       }
-      if (static_cast<int>(featureSize.size()) <= id)
+      if (static_cast<int>(rec.FeatureSize.size()) <= id)
       {
-        featureSize.resize(id + 1, HUGE_VAL);
+        rec.FeatureSize.resize(id + 1, HUGE_VAL);
       }
-      featureSize[id] = r.FeatureSize;
+      rec.FeatureSize[id] = r.FeatureSize;
       for (const CandidateValue* value : r.Values)
       {
         SideSample s;

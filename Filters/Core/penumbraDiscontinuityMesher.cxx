@@ -7,12 +7,12 @@
 #include "penumbraFormFactor.h"
 #include "penumbraOccluderCulling.h"
 #include "penumbraReceiverTriangulation.h"
+#include "penumbraUnionFind.h"
 
 #include <algorithm>
 #include <chrono>
 #include <limits>
 #include <cmath>
-#include <numeric>
 #include <sstream>
 #include <unordered_map>
 
@@ -273,33 +273,7 @@ struct Segment2
   int Priority() const { return this->Outline ? 0 : (this->Removal ? 1 : 2); }
 };
 
-struct UnionFind
-{
-  std::vector<int> Parent;
-  explicit UnionFind(std::size_t n)
-    : Parent(n)
-  {
-    std::iota(this->Parent.begin(), this->Parent.end(), 0);
-  }
-  int Find(int i)
-  {
-    while (this->Parent[i] != i)
-    {
-      this->Parent[i] = this->Parent[this->Parent[i]];
-      i = this->Parent[i];
-    }
-    return i;
-  }
-  void Union(int a, int b)
-  {
-    a = this->Find(a);
-    b = this->Find(b);
-    if (a != b)
-    {
-      this->Parent[std::max(a, b)] = std::min(a, b);
-    }
-  }
-};
+using detail::UnionFind;
 
 struct CellKey
 {

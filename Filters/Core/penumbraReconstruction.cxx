@@ -2,6 +2,7 @@
 #include "penumbraReconstruction.h"
 
 #include "penumbraScene.h" // InputError
+#include "penumbraUnionFind.h"
 
 #include <algorithm>
 #include <cmath>
@@ -81,35 +82,6 @@ struct Net
   double C[3];    // point next to the split point toward corner i
   double Z;       // split point
 };
-
-// Union-find over triangle corners.
-int FindRoot(std::vector<int>& parent, int i)
-{
-  while (parent[i] != i)
-  {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
-
-void Unite(std::vector<int>& parent, int a, int b)
-{
-  a = FindRoot(parent, a);
-  b = FindRoot(parent, b);
-  if (a != b)
-  {
-    // Smaller root wins: deterministic.
-    if (a < b)
-    {
-      parent[b] = a;
-    }
-    else
-    {
-      parent[a] = b;
-    }
-  }
-}
 
 } // namespace
 
@@ -499,11 +471,7 @@ void Reconstruction::Internals::BuildSectors()
 {
   const int nt = this->Mesh.GetNumberOfTriangles();
   const int ncorners = 3 * nt;
-  std::vector<int> parent(ncorners);
-  for (int i = 0; i < ncorners; ++i)
-  {
-    parent[i] = i;
-  }
+  detail::UnionFind corners(ncorners);
   auto cornerOf = [this](int t, int point) {
     const int* tri = this->T(t);
     return 3 * t + (tri[0] == point ? 0 : (tri[1] == point ? 1 : 2));
@@ -520,7 +488,7 @@ void Reconstruction::Internals::BuildSectors()
     for (int end = 0; end < 2; ++end)
     {
       const int point = this->EdgePoints[2 * e + end];
-      Unite(parent, cornerOf(t0, point), cornerOf(t1, point));
+      corners.Union(cornerOf(t0, point), cornerOf(t1, point));
     }
   }
   this->CornerSector.assign(ncorners, -1);
@@ -528,7 +496,7 @@ void Reconstruction::Internals::BuildSectors()
   std::vector<int> rootSector(ncorners, -1);
   for (int i = 0; i < ncorners; ++i)
   {
-    const int r = FindRoot(parent, i);
+    const int r = corners.Find(i);
     if (rootSector[r] < 0)
     {
       rootSector[r] = static_cast<int>(this->SectorPoint.size());
