@@ -24,7 +24,7 @@
 //   [threads, default 1] [interior events 0/1, default 1]
 #include "penumbraAdaptiveSampler.h"
 #include "penumbraDiscontinuityMesher.h"
-#include "penumbraExactVisibility.h"
+#include "penumbraExactEvaluator.h"
 #include "penumbraReconstruction.h"
 #include "penumbraSceneLibrary.h"
 

@@ -7,12 +7,12 @@
 // purpose so that the numbers describe a portable build):
 //   g++ -std=c++17 -O2 -march=x86-64-v2 -IFilters/Core -I<dir with penumbraCoreModule.h>
 //     Benchmarks/penumbraEvaluatorBenchmark.cxx Filters/Core/penumbraScene.cxx
-//     Filters/Core/penumbraFormFactor.cxx Filters/Core/penumbraOccluderCulling.cxx
-//     Filters/Core/penumbraExactVisibility.cxx -o penumbraEvaluatorBenchmark
+//     Filters/Core/penumbraFormFactor.cxx Filters/Core/penumbraOccluderSet.cxx
+//     Filters/Core/penumbraExactEvaluator.cxx -o penumbraEvaluatorBenchmark
 // Usage: penumbraEvaluatorBenchmark [seconds per row, default 1]
 // Rates are per second of this thread's CPU time (best of several rounds), so
 // that other processes sharing the machine distort them as little as possible.
-#include "penumbraExactVisibility.h"
+#include "penumbraExactEvaluator.h"
 #include "penumbraFormFactor.h"
 
 #include <algorithm>

@@ -16,7 +16,7 @@
 //     Benchmarks/penumbraRayCastBenchmark.cxx Filters/Core/penumbraScene.cxx
 //     Filters/Core/penumbraSceneLibrary.cxx Filters/Core/penumbraFormFactor.cxx
 //     Filters/Core/penumbraShooterRadiance.cxx Filters/Core/penumbraLinearSource.cxx
-//     Filters/Core/penumbraOccluderCulling.cxx Filters/Core/penumbraExactVisibility.cxx
+//     Filters/Core/penumbraOccluderSet.cxx Filters/Core/penumbraExactEvaluator.cxx
 //     Filters/Core/penumbraRayCastEvaluator.cxx -lembree3 -ltbb -lpthread
 //     -o penumbraRayCastBenchmark
 // Usage: penumbraRayCastBenchmark [rounds, default 3]

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # The installable CMake package: find_package(Penumbra) gives the targets
-# Penumbra::Filters (the VTK filters) and Penumbra::Core (the plain C++ core).
+# Penumbra::Filters (the VTK filters) and the core modules (Penumbra::Common,
+# ::Visibility, ::Reconstruction, ::Meshing, ::Transport, ::Baseline).
 include(CMakePackageConfigHelpers)
 
 install(EXPORT Penumbra

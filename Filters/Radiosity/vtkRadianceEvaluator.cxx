@@ -20,7 +20,7 @@
 
 #include "penumbraAdaptiveSampler.h"
 #include "penumbraDiscontinuityMesher.h"
-#include "penumbraExactVisibility.h"
+#include "penumbraExactEvaluator.h"
 #include "penumbraLinearSource.h"
 #include "penumbraShooterRadiance.h"
 #include "penumbraRayCastEvaluator.h"

@@ -12,7 +12,7 @@
 //   interpolation at the same sample count (issue 5's accuracy targets).
 #include "penumbraAdaptiveSampler.h"
 #include "penumbraDiscontinuityMesher.h"
-#include "penumbraExactVisibility.h"
+#include "penumbraExactEvaluator.h"
 #include "penumbraReconstruction.h"
 #include "penumbraScene.h"
 #include "penumbraSceneLibrary.h"

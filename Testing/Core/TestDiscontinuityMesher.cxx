@@ -5,7 +5,7 @@
 // evaluated on vertex sides, contact footprints, and area / inside checks on
 // the built-in scenes.
 #include "penumbraDiscontinuityMesher.h"
-#include "penumbraExactVisibility.h"
+#include "penumbraExactEvaluator.h"
 #include "penumbraSceneLibrary.h"
 #include "penumbraTesting.h"
 
@@ -896,7 +896,7 @@ void TestCullingKeepsBoundaries()
 
 //------------------------------------------------------------------------------
 // Completeness of the slope discontinuities, against an independent oracle:
-// the exact visible form factor (penumbraExactVisibility: visible part of the
+// the exact visible form factor (penumbraExactEvaluator: visible part of the
 // light by polygon clipping, Lambert's formula) sampled along transects of
 // the Cornell floor. A slope jump J between samples makes the second
 // difference spike (~ J h) above its smooth neighbours (~ F'' h^2); every such

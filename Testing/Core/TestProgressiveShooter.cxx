@@ -5,7 +5,7 @@
 // squares checked by fine quadrature of the reflected field (itself from the
 // closed-form point-to-rectangle form factor of Howell's catalogue), and the
 // exact method against the fast one on the Cornell box.
-#include "penumbraExactVisibility.h"
+#include "penumbraExactEvaluator.h"
 #include "penumbraProgressiveShooter.h"
 #include "penumbraSceneLibrary.h"
 #include "penumbraTesting.h"

@@ -6,7 +6,7 @@
 // toward the exact evaluator; a non-uniform shooter against the exact
 // linear-source result; identical results on 1 and 2 threads; no
 // self-occlusion of receiver and shooter; watertight occluders; bad settings.
-#include "penumbraExactVisibility.h"
+#include "penumbraExactEvaluator.h"
 #include "penumbraFormFactor.h"
 #include "penumbraLinearSource.h"
 #include "penumbraRayCastEvaluator.h"

@@ -21,7 +21,7 @@ def test_install_layout_and_downstream_project(tmp_path):
     _run(["cmake", "--install", BUILD_DIR, "--prefix", str(prefix)])
     libs = os.listdir(prefix / "lib")
     assert any(name.startswith("libvtkPenumbraFilters") for name in libs), libs
-    assert any(name.startswith("libpenumbraCore") for name in libs), libs
+    assert any(name.startswith("libpenumbraTransport") for name in libs), libs
     package = prefix / "lib" / "python3" / "dist-packages" / "penumbra"
     assert (package / "__init__.py").is_file() and (package / "cli.py").is_file()
     assert (prefix / "bin" / "penumbra").is_file()

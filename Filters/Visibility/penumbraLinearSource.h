@@ -70,8 +70,8 @@
 #ifndef penumbraLinearSource_h
 #define penumbraLinearSource_h
 
-#include "penumbraCoreModule.h" // for export macro
-#include "penumbraExactVisibility.h"
+#include "penumbraVisibilityModule.h" // for export macro
+#include "penumbraExactEvaluator.h"
 #include "penumbraShooterRadiance.h"
 #include "penumbraVector.h"
 
@@ -85,7 +85,7 @@ namespace penumbra
  * = sum_k sin(k theta) / k^2, for any finite theta (odd, 2 pi periodic).
  * Absolute error about 1e-16 (maximum value 1.0149416 at pi/3).
  */
-PENUMBRACORE_EXPORT double Clausen2(double theta);
+PENUMBRAVISIBILITY_EXPORT double Clausen2(double theta);
 
 /**
  * Zeroth and first moments of the irradiance kernel
@@ -113,7 +113,7 @@ struct IrradianceMoments
  * Zero when x is not strictly in front of the polygon's plane. No heap
  * allocation for polygons of up to 64 vertices.
  */
-PENUMBRACORE_EXPORT IrradianceMoments ComputeIrradianceMoments(
+PENUMBRAVISIBILITY_EXPORT IrradianceMoments ComputeIrradianceMoments(
   const Vec3& x, const Vec3& n, const Vec3* vertices, int count, const Vec3& frontNormal);
 
 /**
@@ -122,7 +122,7 @@ PENUMBRACORE_EXPORT IrradianceMoments ComputeIrradianceMoments(
  * `radiance` from its side `frontNormal`. With a constant radiance L it is
  * pi L PointPolygonFormFactorClipped(...) up to rounding.
  */
-PENUMBRACORE_EXPORT RGB LinearPolygonIrradiance(const Vec3& x, const Vec3& n,
+PENUMBRAVISIBILITY_EXPORT RGB LinearPolygonIrradiance(const Vec3& x, const Vec3& n,
   const Vec3* vertices, int count, const Vec3& frontNormal, const LinearRadiance& radiance);
 
 /**
@@ -130,7 +130,7 @@ PENUMBRACORE_EXPORT RGB LinearPolygonIrradiance(const Vec3& x, const Vec3& n,
  * `values` at `points` and linear in between, emitting from its side
  * `frontNormal`.
  */
-PENUMBRACORE_EXPORT RGB LinearTriangleIrradiance(const Vec3& x, const Vec3& n,
+PENUMBRAVISIBILITY_EXPORT RGB LinearTriangleIrradiance(const Vec3& x, const Vec3& n,
   const Vec3 points[3], const RGB values[3], const Vec3& frontNormal);
 
 /// Scratch memory of the shooter-level functions below: one per thread.
@@ -153,7 +153,7 @@ struct LinearSourceWorkspace
  * irradiance of (triangle intersected with piece) with the triangle's linear
  * function. Thread-safe with one workspace per thread.
  */
-PENUMBRACORE_EXPORT RGB VisibleShooterIrradiance(const Vec3& x, const Vec3& n,
+PENUMBRAVISIBILITY_EXPORT RGB VisibleShooterIrradiance(const Vec3& x, const Vec3& n,
   const ShooterRadiance& radiance, const VisibleRegion& region, const Vec3& shooterNormal,
   LinearSourceWorkspace& workspace);
 
@@ -163,7 +163,7 @@ PENUMBRACORE_EXPORT RGB VisibleShooterIrradiance(const Vec3& x, const Vec3& n,
  * `radiance`. For a mesh the shooter is clipped to each triangle, so a mesh
  * larger than the shooter is cut to it.
  */
-PENUMBRACORE_EXPORT RGB UnoccludedShooterIrradiance(const Vec3& x, const Vec3& n,
+PENUMBRAVISIBILITY_EXPORT RGB UnoccludedShooterIrradiance(const Vec3& x, const Vec3& n,
   const ShooterRadiance& radiance, const std::vector<Vec3>& shooter,
   LinearSourceWorkspace& workspace);
 
@@ -174,7 +174,7 @@ PENUMBRACORE_EXPORT RGB UnoccludedShooterIrradiance(const Vec3& x, const Vec3& n
  * then VisibleShooterIrradiance. The contributed radiance is
  * rho_receiver / pi times this. Thread-safe with one workspace per thread.
  */
-PENUMBRACORE_EXPORT RGB ExactShooterIrradiance(const ExactEvaluator& evaluator, const Vec3& x,
+PENUMBRAVISIBILITY_EXPORT RGB ExactShooterIrradiance(const ExactEvaluator& evaluator, const Vec3& x,
   const Vec3& n, int receiverId, int shooterId, const ShooterRadiance& radiance,
   LinearSourceWorkspace& workspace);
 

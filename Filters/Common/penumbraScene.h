@@ -11,7 +11,7 @@
 #ifndef penumbraScene_h
 #define penumbraScene_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraCommonModule.h" // for export macro
 #include "penumbraVector.h"
 
 #include <array>
@@ -27,7 +27,7 @@ namespace penumbra
  * Thrown for input that does not follow the data contract. The message names
  * the offending cell, array, line or setting and says what is wrong with it.
  */
-class PENUMBRACORE_EXPORT InputError : public std::runtime_error
+class PENUMBRACOMMON_EXPORT InputError : public std::runtime_error
 {
 public:
   explicit InputError(const std::string& message)
@@ -59,7 +59,7 @@ struct PolygonGeometry
 
 /// Geometry of a polygon from its vertices (Newell normal). Area is 0 for a
 /// degenerate polygon, in which case Normal is the zero vector.
-PENUMBRACORE_EXPORT PolygonGeometry ComputePolygonGeometry(const std::vector<Vec3>& vertices);
+PENUMBRACOMMON_EXPORT PolygonGeometry ComputePolygonGeometry(const std::vector<Vec3>& vertices);
 
 /**
  * Ear-clipping triangulation of a simple planar polygon `v` (either
@@ -68,7 +68,7 @@ PENUMBRACORE_EXPORT PolygonGeometry ComputePolygonGeometry(const std::vector<Vec
  * are cut at their flattest vertex, so it always ends with at most
  * v.size() - 2 triangles (zero-area ones are left out).
  */
-PENUMBRACORE_EXPORT void TriangulatePolygon(
+PENUMBRACOMMON_EXPORT void TriangulatePolygon(
   const std::vector<Vec3>& v, const Vec3& normal, std::vector<std::array<int, 3>>& out);
 
 /// A collection of surfaces; surface i corresponds to input cell i.
@@ -77,9 +77,9 @@ struct Scene
   std::vector<Surface> Surfaces;
 
   /// Largest extent of the bounding box (0 for an empty scene).
-  PENUMBRACORE_EXPORT double Size() const;
+  PENUMBRACOMMON_EXPORT double Size() const;
   /// Total emitted power pi * sum(L^e * A) per channel, in watts.
-  PENUMBRACORE_EXPORT RGB EmittedPower() const;
+  PENUMBRACOMMON_EXPORT RGB EmittedPower() const;
 };
 
 /// Tolerances used by ValidateScene, relative to the polygon's diameter.
@@ -99,7 +99,7 @@ struct ValidationTolerances
  * non-planar vertices, self-intersecting outlines, reflectance outside [0, 1),
  * or negative emission.
  */
-PENUMBRACORE_EXPORT void ValidateScene(
+PENUMBRACOMMON_EXPORT void ValidateScene(
   const Scene& scene, const ValidationTolerances& tolerances = ValidationTolerances());
 
 } // namespace penumbra

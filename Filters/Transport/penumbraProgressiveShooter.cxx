@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraProgressiveShooter.h"
 
-#include "penumbraExactVisibility.h"
+#include "penumbraExactEvaluator.h"
 #include "penumbraFormFactor.h"
 #include "penumbraLinearSource.h"
-#include "penumbraOccluderCulling.h"
+#include "penumbraOccluderSet.h"
 #include "penumbraRayCastEvaluator.h"
 #include "penumbraShooterRadiance.h"
 

@@ -90,7 +90,7 @@
 #ifndef penumbraReconstruction_h
 #define penumbraReconstruction_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraReconstructionModule.h" // for export macro
 #include "penumbraVector.h"
 
 #include <cstddef>
@@ -322,7 +322,7 @@ struct ResampledMesh
  * The reconstructed function of one receiver. Build it from a SampleMesh,
  * then evaluate it anywhere, resample it for display, estimate its error.
  */
-class PENUMBRACORE_EXPORT Reconstruction
+class PENUMBRARECONSTRUCTION_EXPORT Reconstruction
 {
 public:
   Reconstruction();

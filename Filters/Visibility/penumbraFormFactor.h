@@ -24,7 +24,7 @@
 #ifndef penumbraFormFactor_h
 #define penumbraFormFactor_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraVisibilityModule.h" // for export macro
 #include "penumbraVector.h"
 
 #include <algorithm>
@@ -78,7 +78,7 @@ inline double LambertEdgeTerm(const Vec3& r0, const Vec3& r1, const Vec3& n)
  * and the polygon must lie in front of x's tangent plane for the value to be
  * a form factor.
  */
-PENUMBRACORE_EXPORT double PointPolygonFormFactorSigned(
+PENUMBRAVISIBILITY_EXPORT double PointPolygonFormFactorSigned(
   const Vec3& x, const Vec3& n, const Vec3* vertices, int count);
 
 /**
@@ -87,7 +87,7 @@ PENUMBRACORE_EXPORT double PointPolygonFormFactorSigned(
  * vertex). Returns 0 when the polygon's front does not face x, or for fewer
  * than three vertices. Works for concave polygons too.
  */
-PENUMBRACORE_EXPORT double PointPolygonFormFactor(
+PENUMBRAVISIBILITY_EXPORT double PointPolygonFormFactor(
   const Vec3& x, const Vec3& n, const Vec3* vertices, int count);
 
 /**
@@ -98,11 +98,11 @@ PENUMBRACORE_EXPORT double PointPolygonFormFactor(
  * may contain zero-width bridges, which contour integrals such as Lambert's
  * formula traverse twice in opposite directions and so cancel exactly.
  */
-PENUMBRACORE_EXPORT int ClipPolygonToHalfSpace(
+PENUMBRAVISIBILITY_EXPORT int ClipPolygonToHalfSpace(
   const Vec3* vertices, int count, const Vec3& normal, double offset, Vec3* out);
 
 /// Convenience overload of ClipPolygonToHalfSpace on vectors (`out` is resized).
-PENUMBRACORE_EXPORT void ClipPolygonToHalfSpace(
+PENUMBRAVISIBILITY_EXPORT void ClipPolygonToHalfSpace(
   const std::vector<Vec3>& vertices, const Vec3& normal, double offset, std::vector<Vec3>& out);
 
 /**
@@ -110,7 +110,7 @@ PENUMBRACORE_EXPORT void ClipPolygonToHalfSpace(
  * planar polygon: the polygon is first clipped to x's front half-space
  * Dot(n, p - x) >= 0. No heap allocation for polygons of up to 32 vertices.
  */
-PENUMBRACORE_EXPORT double PointPolygonFormFactorClipped(
+PENUMBRAVISIBILITY_EXPORT double PointPolygonFormFactorClipped(
   const Vec3& x, const Vec3& n, const Vec3* vertices, int count);
 
 /// Convenience overload of PointPolygonFormFactorClipped on a vector.

@@ -58,7 +58,7 @@
 #ifndef penumbraSceneLibrary_h
 #define penumbraSceneLibrary_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraCommonModule.h" // for export macro
 #include "penumbraScene.h"
 
 #include <string>
@@ -75,11 +75,11 @@ struct BuiltinSceneInfo
 };
 
 /// The built-in scenes, in a fixed order ("cornell" first).
-PENUMBRACORE_EXPORT std::vector<BuiltinSceneInfo> ListBuiltinScenes();
+PENUMBRACOMMON_EXPORT std::vector<BuiltinSceneInfo> ListBuiltinScenes();
 
 /// Build the built-in scene `name`; throws InputError listing the valid names
 /// if there is no such scene.
-PENUMBRACORE_EXPORT Scene MakeBuiltinScene(const std::string& name);
+PENUMBRACOMMON_EXPORT Scene MakeBuiltinScene(const std::string& name);
 
 } // namespace penumbra
 

@@ -128,7 +128,7 @@
 #ifndef penumbraDiscontinuityMesher_h
 #define penumbraDiscontinuityMesher_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraMeshingModule.h" // for export macro
 #include "penumbraScene.h"
 #include "penumbraVector.h"
 
@@ -250,7 +250,7 @@ struct DiscontinuityMeshStatistics
   double TriangulationSeconds = 0.0;  ///< wall time for the triangulations
 
   /// Accumulate another call's counters (e.g. from other threads).
-  PENUMBRACORE_EXPORT DiscontinuityMeshStatistics& operator+=(
+  PENUMBRAMESHING_EXPORT DiscontinuityMeshStatistics& operator+=(
     const DiscontinuityMeshStatistics& other);
 };
 
@@ -260,7 +260,7 @@ struct DiscontinuityMeshStatistics
  * the shared-feature tables. The queries are const and thread-safe: receivers
  * may be meshed in parallel, and the result does not depend on the order.
  */
-class PENUMBRACORE_EXPORT DiscontinuityMesher
+class PENUMBRAMESHING_EXPORT DiscontinuityMesher
 {
 public:
   explicit DiscontinuityMesher(const Scene& scene);

@@ -3,7 +3,7 @@
 // against closed forms (aligned rectangles) and against an independent
 // brute-force Monte Carlo integration written here (uniform samples on the
 // shooter, a segment test against every polygon of the scene).
-#include "penumbraExactVisibility.h"
+#include "penumbraExactEvaluator.h"
 #include "penumbraFormFactor.h"
 #include "penumbraTesting.h"
 

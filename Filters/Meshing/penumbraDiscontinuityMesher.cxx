@@ -5,7 +5,7 @@
 #include "penumbraDiscontinuityMesher.h"
 
 #include "penumbraFormFactor.h"
-#include "penumbraOccluderCulling.h"
+#include "penumbraOccluderSet.h"
 #include "penumbraReceiverTriangulation.h"
 #include "penumbraUnionFind.h"
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /**
- * @file penumbraOccluderCulling.h
+ * @file penumbraOccluderSet.h
  * @brief A scene prepared for visibility queries: per-polygon planes, frames,
  * bounds and convex decompositions, a BVH over the polygons, and the two
  * culling queries of exact visibility.
@@ -16,10 +16,10 @@
  * polygon that is kept may still cast no shadow. Both traverse the BVH and do
  * not touch every polygon of the scene.
  */
-#ifndef penumbraOccluderCulling_h
-#define penumbraOccluderCulling_h
+#ifndef penumbraOccluderSet_h
+#define penumbraOccluderSet_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraVisibilityModule.h" // for export macro
 #include "penumbraScene.h"
 #include "penumbraVector.h"
 
@@ -60,7 +60,7 @@ struct CullingVolume
  * + 1 for a convex polygon); returns the number of points written (0 if
  * fewer than 3 remain). Vertices on the line are never duplicated.
  */
-PENUMBRACORE_EXPORT int ClipPolygon2D(
+PENUMBRAVISIBILITY_EXPORT int ClipPolygon2D(
   const double* xy, int count, double a, double b, double c, double* out);
 
 /// A convex piece of a polygon: a range of vertices in OccluderSet's piece arrays.
@@ -97,7 +97,7 @@ struct PreparedPolygon
  * over the polygons' bounds. Immutable after construction; all queries are
  * const and thread-safe.
  */
-class PENUMBRACORE_EXPORT OccluderSet
+class PENUMBRAVISIBILITY_EXPORT OccluderSet
 {
 public:
   OccluderSet() = default;

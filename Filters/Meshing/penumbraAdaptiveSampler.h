@@ -103,7 +103,7 @@
 #ifndef penumbraAdaptiveSampler_h
 #define penumbraAdaptiveSampler_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraMeshingModule.h" // for export macro
 #include "penumbraDiscontinuityMesher.h"
 #include "penumbraReconstruction.h"
 #include "penumbraVector.h"
@@ -248,7 +248,7 @@ struct AdaptiveSamplingResult
  * Throws InputError for an empty or inconsistent mesh (ids out of range, no
  * triangle, zero area), a missing function, or settings out of range.
  */
-PENUMBRACORE_EXPORT AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
+PENUMBRAMESHING_EXPORT AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& mesh,
   const RadianceBatchFunction& evaluate,
   const AdaptiveSamplingSettings& settings = AdaptiveSamplingSettings());
 
@@ -265,7 +265,7 @@ PENUMBRACORE_EXPORT AdaptiveSamplingResult SampleReceiver(const ReceiverMesh& me
  * `settings` gives only SideOffset. Throws InputError as SampleReceiver,
  * and for numberOfSamples < 3.
  */
-PENUMBRACORE_EXPORT AdaptiveSamplingResult SampleReceiverUniform(const ReceiverMesh& mesh,
+PENUMBRAMESHING_EXPORT AdaptiveSamplingResult SampleReceiverUniform(const ReceiverMesh& mesh,
   int numberOfSamples, const RadianceBatchFunction& evaluate,
   const AdaptiveSamplingSettings& settings = AdaptiveSamplingSettings());
 

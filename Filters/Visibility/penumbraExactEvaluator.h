@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /**
- * @file penumbraExactVisibility.h
+ * @file penumbraExactEvaluator.h
  * @brief Exact visible part of a shooting polygon seen from a point, and the
  * exact form factor / contributed radiance of a constant-radiance shooter
  * (Lischinski, Tampieri and Greenberg 1991, section 5, "the more accurate
@@ -37,11 +37,11 @@
  * radiance of a constant shooter of radiance Ls onto a receiver of
  * reflectance rho is rho * Ls * F (E = pi Ls F, L = rho E / pi).
  */
-#ifndef penumbraExactVisibility_h
-#define penumbraExactVisibility_h
+#ifndef penumbraExactEvaluator_h
+#define penumbraExactEvaluator_h
 
-#include "penumbraCoreModule.h" // for export macro
-#include "penumbraOccluderCulling.h"
+#include "penumbraVisibilityModule.h" // for export macro
+#include "penumbraOccluderSet.h"
 #include "penumbraScene.h"
 #include "penumbraVector.h"
 
@@ -104,7 +104,7 @@ struct VisibleRegion
     return this->Offsets.empty() ? 0 : static_cast<int>(this->Offsets.size()) - 1;
   }
   /// Total area of the pieces.
-  PENUMBRACORE_EXPORT double GetArea() const;
+  PENUMBRAVISIBILITY_EXPORT double GetArea() const;
 };
 
 /**
@@ -122,7 +122,7 @@ struct VisibleRegion
  * x. A point lying on occluders (an occluder vertex or edge) is not hidden
  * by them: a polygon whose plane contains x casts no shadow.
  */
-PENUMBRACORE_EXPORT double VisibleFormFactor(const OccluderSet& occluders, const Vec3& x,
+PENUMBRAVISIBILITY_EXPORT double VisibleFormFactor(const OccluderSet& occluders, const Vec3& x,
   const Vec3& n, int shooterId, int receiverId, const int* candidates, int numberOfCandidates,
   VisibilityWorkspace& workspace, VisibleRegion* region = nullptr);
 
@@ -141,7 +141,7 @@ inline double VisibleFormFactor(const OccluderSet& occluders, const Vec3& x, con
  * closed-form integration. Construct once per scene; the queries are const
  * and thread-safe given one VisibilityWorkspace per thread.
  */
-class PENUMBRACORE_EXPORT ExactEvaluator
+class PENUMBRAVISIBILITY_EXPORT ExactEvaluator
 {
 public:
   /// Prepare `scene` (its geometry is copied; the scene may be discarded).

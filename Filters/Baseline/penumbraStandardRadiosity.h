@@ -92,7 +92,7 @@
 #ifndef penumbraStandardRadiosity_h
 #define penumbraStandardRadiosity_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraBaselineModule.h" // for export macro
 #include "penumbraProgressiveShooter.h" // for ParallelFor, ShotRecord, ShootingEnergy, StopReason
 #include "penumbraScene.h"
 #include "penumbraVector.h"
@@ -139,7 +139,7 @@ struct StandardRadiositySettings
   int MaximumShots = 10000;
 
   /// Throws InputError naming the first setting out of its range.
-  PENUMBRACORE_EXPORT void Validate() const;
+  PENUMBRABASELINE_EXPORT void Validate() const;
 };
 
 /// Result of StandardRadiosity::Run.
@@ -177,7 +177,7 @@ struct StandardRadiosityMesh
  * Standard progressive radiosity over a scene. Construct, set the settings
  * and the parallel loop, Run, then read the mesh. Not thread-safe itself.
  */
-class PENUMBRACORE_EXPORT StandardRadiosity
+class PENUMBRABASELINE_EXPORT StandardRadiosity
 {
 public:
   /// Prepare `scene` (copied). Throws InputError if it is not valid (ValidateScene).

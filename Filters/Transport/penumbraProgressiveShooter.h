@@ -198,7 +198,7 @@
 #ifndef penumbraProgressiveShooter_h
 #define penumbraProgressiveShooter_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraTransportModule.h" // for export macro
 #include "penumbraScene.h"
 #include "penumbraVector.h"
 
@@ -324,7 +324,7 @@ struct ProgressiveShooterSettings
   double RayOriginOffset = 1e-4;
 
   /// Throws InputError naming the first setting out of its range.
-  PENUMBRACORE_EXPORT void Validate() const;
+  PENUMBRATRANSPORT_EXPORT void Validate() const;
 };
 
 /// What one shot did. Powers are RGB, in watts (scene units squared times
@@ -413,14 +413,14 @@ using ShotProgressCallback = std::function<void(double fraction)>;
  * (StopReason::Converged) or `shots` has reached `maximumShots`
  * (StopReason::MaximumShots).
  */
-PENUMBRACORE_EXPORT bool ShootingDone(
+PENUMBRATRANSPORT_EXPORT bool ShootingDone(
   double unshot, double target, int shots, int maximumShots, StopReason& reason);
 
 /**
  * The progress passed to a ShotCallback (see there), in [0, 1], after
  * `shots` shots that left `unshotAfter` of an `initial` unshot power.
  */
-PENUMBRACORE_EXPORT double ShootingProgress(
+PENUMBRATRANSPORT_EXPORT double ShootingProgress(
   double unshotAfter, double initial, double target, int shots, int maximumShots);
 
 /**
@@ -429,7 +429,7 @@ PENUMBRACORE_EXPORT double ShootingProgress(
  * samples, then Run (or Shoot step by step). Not thread-safe itself: the
  * parallelism is inside each shot, through SetParallelFor.
  */
-class PENUMBRACORE_EXPORT ProgressiveShooter
+class PENUMBRATRANSPORT_EXPORT ProgressiveShooter
 {
 public:
   /// Prepare `scene` (geometry and materials are copied; the scene may be discarded).

@@ -39,7 +39,7 @@
 #ifndef penumbraIndirectLevel_h
 #define penumbraIndirectLevel_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraTransportModule.h" // for export macro
 #include "penumbraProgressiveShooter.h"
 #include "penumbraScene.h"
 
@@ -51,7 +51,7 @@ namespace penumbra
 {
 
 /// The coarse level of one surface and the transfer to and from its fine samples.
-class PENUMBRACORE_EXPORT IndirectLevel
+class PENUMBRATRANSPORT_EXPORT IndirectLevel
 {
 public:
   /**
@@ -113,7 +113,7 @@ private:
  * samples). finePoints has one count per surface (0: the surface takes no
  * part). Returns 0 when the fine samples already fit the budget.
  */
-PENUMBRACORE_EXPORT double IndirectSpacing(
+PENUMBRATRANSPORT_EXPORT double IndirectSpacing(
   const Scene& scene, const std::vector<std::size_t>& finePoints, std::size_t budget);
 
 } // namespace penumbra

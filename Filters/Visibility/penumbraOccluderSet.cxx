@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "penumbraOccluderCulling.h"
+#include "penumbraOccluderSet.h"
 
 #include <algorithm>
 #include <cfloat>

@@ -21,7 +21,7 @@
 #ifndef penumbraShooterRadiance_h
 #define penumbraShooterRadiance_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraVisibilityModule.h" // for export macro
 #include "penumbraVector.h"
 
 #include <array>
@@ -76,7 +76,7 @@ struct LinearRadiance
    * triangle; its gradients lie in the triangle's plane. A degenerate
    * triangle gives the constant function values[0].
    */
-  PENUMBRACORE_EXPORT static LinearRadiance FromTriangle(const Vec3 points[3], const RGB values[3]);
+  PENUMBRAVISIBILITY_EXPORT static LinearRadiance FromTriangle(const Vec3 points[3], const RGB values[3]);
 };
 
 /// One triangle of a piecewise-linear radiance: its points and their values.
@@ -91,7 +91,7 @@ struct RadianceTriangle
  * piecewise linear over a triangle mesh lying in the shooter's plane.
  * Immutable after construction; every query is const and thread-safe.
  */
-class PENUMBRACORE_EXPORT ShooterRadiance
+class PENUMBRAVISIBILITY_EXPORT ShooterRadiance
 {
 public:
   /// The constant zero radiance.

@@ -64,7 +64,7 @@
 #ifndef penumbraRayCastEvaluator_h
 #define penumbraRayCastEvaluator_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraVisibilityModule.h" // for export macro
 #include "penumbraScene.h"
 #include "penumbraShooterRadiance.h"
 #include "penumbraVector.h"
@@ -89,7 +89,7 @@ struct OcclusionRay
  * polygons are skipped. Build once; every query is const and thread-safe
  * (Embree scenes are safe for concurrent queries).
  */
-class PENUMBRACORE_EXPORT RayCaster
+class PENUMBRAVISIBILITY_EXPORT RayCaster
 {
 public:
   /// Build the Embree scene of `scene`. Throws std::runtime_error if Embree fails.
@@ -176,7 +176,7 @@ struct RayCastStatistics
  * number of threads (queries are const, use no shared mutable state and only
  * small per-query buffers).
  */
-class PENUMBRACORE_EXPORT RayCastEvaluator
+class PENUMBRAVISIBILITY_EXPORT RayCastEvaluator
 {
 public:
   /// Prepare `scene` (its geometry and materials are copied).

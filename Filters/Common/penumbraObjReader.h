@@ -34,7 +34,7 @@
 #ifndef penumbraObjReader_h
 #define penumbraObjReader_h
 
-#include "penumbraCoreModule.h" // for export macro
+#include "penumbraCommonModule.h" // for export macro
 #include "penumbraScene.h"
 
 #include <cstddef>
@@ -56,11 +56,11 @@ constexpr std::size_t ObjMaxLineLength = std::size_t(1) << 20;
 using ObjMaterialOpener = std::function<std::unique_ptr<std::istream>(const std::string& name)>;
 
 /// Read an OBJ file and the MTL files it names (relative to its folder).
-PENUMBRACORE_EXPORT Scene ReadObjScene(const std::string& objPath);
+PENUMBRACOMMON_EXPORT Scene ReadObjScene(const std::string& objPath);
 
 /// Parse OBJ text from a stream; `objName` is used in error messages and
 /// `openMtl` resolves material libraries (e.g. from strings in tests).
-PENUMBRACORE_EXPORT Scene ParseObjScene(
+PENUMBRACOMMON_EXPORT Scene ParseObjScene(
   std::istream& obj, const std::string& objName, const ObjMaterialOpener& openMtl);
 
 } // namespace penumbra

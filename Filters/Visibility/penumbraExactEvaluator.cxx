@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "penumbraExactVisibility.h"
+#include "penumbraExactEvaluator.h"
 
 #include "penumbraFormFactor.h"
 
