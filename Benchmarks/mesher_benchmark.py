@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Benchmark of vtkDiscontinuityMesher on one thread (issue 4).
+"""Benchmark of vtkPenumbraDiscontinuityMesher on one thread (issue 4).
 
 For the built-in Cornell box, seven occluders and venetian blind, and for
 generated rooms full of boxes (penumbra.generators.box_room) of 1,000 and
@@ -93,7 +93,7 @@ def time_mesher(scene, runs, jump_threshold=0.0):
 
     wall, cpu, counts = [], [], None
     for _ in range(runs):
-        mesher = penumbra.vtkDiscontinuityMesher()
+        mesher = penumbra.vtkPenumbraDiscontinuityMesher()
         mesher.SetInputData(scene)
         if jump_threshold:
             mesher.SetJumpThreshold(jump_threshold)
@@ -178,7 +178,7 @@ def chart(rows, path):
         ax.set_ylabel("mesher wall time, one thread (s)")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8, loc="upper left")
-    axes[0].set_title("vtkDiscontinuityMesher: time against segments")
+    axes[0].set_title("vtkPenumbraDiscontinuityMesher: time against segments")
     axes[1].set_title("time against polygons")
     figure.tight_layout()
     figure.savefig(path, dpi=120)

@@ -15,7 +15,7 @@ about 65 MB of it; Mitsuba's python about 145 MB), the number of samples
 vertices; path tracer: light samples or camera samples) and the error of
 the displayed floor radiance (linear over the output triangles, as the
 data contract defines it) against exact values at independent random
-points of the floor (vtkRadianceEvaluator, exact method, at the points
+points of the floor (vtkPenumbraRadianceEvaluator, exact method, at the points
 themselves): RMS, 99th percentile and maximum of |error| relative to the
 mean exact radiance (first channel; these scenes' lights are grey).
 
@@ -29,7 +29,7 @@ Method families (one curve each on the charts):
 
 - discontinuity meshing, exact evaluation + cubic reconstruction, at
   sampling tolerances 0.05, 0.02, 0.008, 0.002 (the default) and 0.0005
-  (vtkRadianceEvaluator's SamplingTolerance), and at 0.05 with samples
+  (vtkPenumbraRadianceEvaluator's SamplingTolerance), and at 0.05 with samples
   up to 1/8 of the scene's diagonal apart (d=1/8; MaximumSampleSpacing,
   default 1/32); on the Cornell box at 0.02 and 0.002 and at four coarser
   settings aimed at 1% RMS (tolerance 0.05, longer sample spacing d,
@@ -111,7 +111,7 @@ CORNELL_REFERENCE = os.path.join(HERE, "reference", "cornell_reference.npz")
 CUBIC = "discontinuity (exact + cubic)"
 LINEAR = "discontinuity (exact + linear)"
 RAY_CAST = "discontinuity (ray cast + cubic)"
-# Discontinuity meshing's sampling tolerance (vtkRadianceEvaluator's
+# Discontinuity meshing's sampling tolerance (vtkPenumbraRadianceEvaluator's
 # SamplingTolerance, relative to each surface's mean radiance; default 0.002):
 # the knob that trades its accuracy for time.
 CUBIC_TOLERANCES = (0.05, 0.02, 0.008, 0.002, 0.0005)
@@ -137,7 +137,7 @@ METHODS = tuple(
      {"evaluation": "ray_cast", "ray_cast_tolerance": 0.001, "tolerance": 0.02,
       "max_samples": 20000}),
     # Direct light: the fastest setting, samples 8 times as far apart as
-    # vtkRadianceEvaluator's MaximumSampleSpacing allows by default (1/32 of
+    # vtkPenumbraRadianceEvaluator's MaximumSampleSpacing allows by default (1/32 of
     # the scene's diagonal). With no spacing limit at all (d=0, not run by
     # default) the adaptive sampling stops sooner but is less accurate for its
     # time at every tolerance (measured: see the module docstring).
@@ -146,9 +146,9 @@ METHODS = tuple(
     (CUBIC, "exact + cubic tol=0.02 d=0", {"tolerance": 0.02, "spacing": 0.0}),
     (CUBIC, "exact + cubic d=0", {"tolerance": 0.002, "spacing": 0.0}),
     # Cornell box: coarser settings aimed at 1% RMS: a looser sampling
-    # tolerance, a longer sample spacing (d, vtkRadianceEvaluator's
+    # tolerance, a longer sample spacing (d, vtkPenumbraRadianceEvaluator's
     # MaximumSampleSpacing, default 1/32), shooting stopped at a larger
-    # unshot fraction (u, vtkProgressiveShooter's UnshotFraction, default
+    # unshot fraction (u, vtkPenumbraProgressiveShooter's UnshotFraction, default
     # 0.001) and weak shots computed coarser (c, its CoarseShotFraction,
     # default 0.003).
     (CUBIC, "exact + cubic tol=0.05 d=1/8 u=0.001 c=0.03",
@@ -216,14 +216,14 @@ def floor_points(scene, count, seed=7):
 
 
 def exact_radiance(scene, points):
-    """Exact direct radiance at `points` on the floor (vtkRadianceEvaluator)."""
+    """Exact direct radiance at `points` on the floor (vtkPenumbraRadianceEvaluator)."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
     import penumbra
     from penumbra.pipeline import point_samples
 
     data = point_samples(points, FLOOR)
-    evaluator = penumbra.vtkRadianceEvaluator()
+    evaluator = penumbra.vtkPenumbraRadianceEvaluator()
     evaluator.SetInputData(0, data)
     evaluator.SetSceneData(scene)
     return vtk_to_numpy(penumbra.run_filter(evaluator).GetPointData().GetArray("Radiance"))[:, 0]
@@ -270,7 +270,7 @@ def solve(scene_data, family, settings, threads, indirect):
                             unshot_fraction=settings.get("unshot"))
     evaluator = stages["evaluator"]
     if settings.get("evaluation") == "ray_cast":
-        evaluator.SetMethod(penumbra.vtkRadianceEvaluator.RAY_CAST)
+        evaluator.SetMethod(penumbra.vtkPenumbraRadianceEvaluator.RAY_CAST)
         evaluator.SetRayCastTolerance(settings.get("ray_cast_tolerance",
                                                    evaluator.GetRayCastTolerance()))
     for key, setter in (("tolerance", evaluator.SetSamplingTolerance),

@@ -12,15 +12,15 @@ import penumbra
 scene = penumbra.vtkPenumbraSceneSource()
 scene.SetSceneName(sys.argv[1] if len(sys.argv) > 1 else "seven")
 
-mesher = penumbra.vtkDiscontinuityMesher()   # shadow and contact boundaries
+mesher = penumbra.vtkPenumbraDiscontinuityMesher()   # shadow and contact boundaries
 mesher.SetInputConnection(scene.GetOutputPort())
 mesher.SetMinimumAngle(20.0)
 
-evaluator = penumbra.vtkRadianceEvaluator()  # exact radiance at the samples
+evaluator = penumbra.vtkPenumbraRadianceEvaluator()  # exact radiance at the samples
 evaluator.SetInputConnection(0, mesher.GetOutputPort())
 evaluator.SetSceneConnection(scene.GetOutputPort())
 
-reconstructor = penumbra.vtkRadianceReconstructor()  # C1 cubic, never negative
+reconstructor = penumbra.vtkPenumbraRadianceReconstructor()  # C1 cubic, never negative
 reconstructor.SetInputConnection(evaluator.GetOutputPort())
 
 writer = vtkXMLPolyDataWriter()

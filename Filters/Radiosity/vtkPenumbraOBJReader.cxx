@@ -17,7 +17,7 @@ vtkPenumbraOBJReader::vtkPenumbraOBJReader()
   this->SetNumberOfInputPorts(0);
 }
 
-int vtkPenumbraOBJReader::RequestData(
+int vtkPenumbraOBJReader::Execute(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector);

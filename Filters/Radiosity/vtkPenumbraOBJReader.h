@@ -16,15 +16,15 @@
 #define vtkPenumbraOBJReader_h
 
 #include "vtkPenumbraFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPenumbraAlgorithm.h"
 
 #include <string> // for std::string
 
-class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraOBJReader : public vtkPolyDataAlgorithm
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraOBJReader : public vtkPenumbraAlgorithm
 {
 public:
   static vtkPenumbraOBJReader* New();
-  vtkTypeMacro(vtkPenumbraOBJReader, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkPenumbraOBJReader, vtkPenumbraAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -40,7 +40,7 @@ protected:
   vtkPenumbraOBJReader();
   ~vtkPenumbraOBJReader() override = default;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   std::string FileName;
 

@@ -14,6 +14,9 @@
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
 
+#include <atomic>
+#include <exception>
+#include <mutex>
 #include <sstream>
 
 namespace penumbra
@@ -173,10 +176,36 @@ ParallelFor SMPParallelFor()
 {
   return [](std::size_t begin, std::size_t end,
            const std::function<void(std::size_t, std::size_t)>& body) {
+    // The first exception of any worker is rethrown on the calling thread
+    // (an exception escaping a worker would end the process with some SMP
+    // backends); once one is caught, the remaining chunks are skipped.
+    std::mutex mutex;
+    std::exception_ptr failure;
+    std::atomic<bool> failed(false);
     vtkSMPTools::For(static_cast<vtkIdType>(begin), static_cast<vtkIdType>(end),
-      [&body](vtkIdType first, vtkIdType last) {
-        body(static_cast<std::size_t>(first), static_cast<std::size_t>(last));
+      [&](vtkIdType first, vtkIdType last) {
+        if (failed.load(std::memory_order_relaxed))
+        {
+          return;
+        }
+        try
+        {
+          body(static_cast<std::size_t>(first), static_cast<std::size_t>(last));
+        }
+        catch (...)
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (!failure)
+          {
+            failure = std::current_exception();
+          }
+          failed = true;
+        }
       });
+    if (failure)
+    {
+      std::rethrow_exception(failure);
+    }
   };
 }
 

@@ -36,7 +36,7 @@ std::string vtkPenumbraSceneSource::GetSceneDescription(int index)
                                                                 : std::string();
 }
 
-int vtkPenumbraSceneSource::RequestData(
+int vtkPenumbraSceneSource::Execute(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector);

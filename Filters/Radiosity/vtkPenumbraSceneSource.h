@@ -19,15 +19,15 @@
 #define vtkPenumbraSceneSource_h
 
 #include "vtkPenumbraFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPenumbraAlgorithm.h"
 
 #include <string> // for std::string
 
-class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraSceneSource : public vtkPolyDataAlgorithm
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraSceneSource : public vtkPenumbraAlgorithm
 {
 public:
   static vtkPenumbraSceneSource* New();
-  vtkTypeMacro(vtkPenumbraSceneSource, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkPenumbraSceneSource, vtkPenumbraAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -53,7 +53,7 @@ protected:
   vtkPenumbraSceneSource();
   ~vtkPenumbraSceneSource() override = default;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   std::string SceneName = "cornell";
 

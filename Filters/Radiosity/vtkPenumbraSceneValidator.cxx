@@ -10,7 +10,7 @@
 
 vtkStandardNewMacro(vtkPenumbraSceneValidator);
 
-int vtkPenumbraSceneValidator::RequestData(
+int vtkPenumbraSceneValidator::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);

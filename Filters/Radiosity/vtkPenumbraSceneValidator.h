@@ -20,15 +20,15 @@
 #define vtkPenumbraSceneValidator_h
 
 #include "vtkPenumbraFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPenumbraAlgorithm.h"
 
 #include <string> // for std::string
 
-class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraSceneValidator : public vtkPolyDataAlgorithm
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraSceneValidator : public vtkPenumbraAlgorithm
 {
 public:
   static vtkPenumbraSceneValidator* New();
-  vtkTypeMacro(vtkPenumbraSceneValidator, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkPenumbraSceneValidator, vtkPenumbraAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -58,7 +58,7 @@ protected:
   vtkPenumbraSceneValidator() = default;
   ~vtkPenumbraSceneValidator() override = default;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double PlanarityTolerance = 1e-6;
   double DegeneracyTolerance = 1e-9;

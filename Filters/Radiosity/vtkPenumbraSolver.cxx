@@ -3,7 +3,7 @@
 
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
-#include "vtkDiscontinuityMesher.h"
+#include "vtkPenumbraDiscontinuityMesher.h"
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
@@ -11,9 +11,9 @@
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPolyData.h"
-#include "vtkProgressiveShooter.h"
-#include "vtkRadianceEvaluator.h"
-#include "vtkRadianceReconstructor.h"
+#include "vtkPenumbraProgressiveShooter.h"
+#include "vtkPenumbraRadianceEvaluator.h"
+#include "vtkPenumbraRadianceReconstructor.h"
 
 #include <string>
 #include <vector>
@@ -56,29 +56,13 @@ void OnStageProgress(vtkObject* caller, unsigned long, void* clientData, void*)
 void OnStageError(vtkObject*, unsigned long, void* clientData, void* callData)
 {
   auto* observer = static_cast<StageObserver*>(clientData);
-  std::string message = callData ? static_cast<const char*>(callData) : "unknown error";
-  // vtkErrorMacro's event text is "ERROR: In <file>, line <n>\n<class> (<this>):
-  // <text>\n\n": keep the text, which the solver's own error then names by stage
-  // (relayed whole, a reader that splits messages at "ERROR: In" kept only the
-  // file and line).
-  if (message.compare(0, 10, "ERROR: In ") == 0)
-  {
-    const std::size_t line = message.find('\n');
-    const std::size_t text = line == std::string::npos ? line : message.find("): ", line);
-    if (text != std::string::npos)
-    {
-      message = message.substr(text + 3);
-    }
-  }
-  while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
-  {
-    message.pop_back();
-  }
+  const std::string message =
+    vtkPenumbraAlgorithm::ErrorText(callData ? static_cast<const char*>(callData) : "");
   observer->Error = message.empty() ? "unknown error" : message;
 }
 } // namespace
 
-int vtkPenumbraSolver::RequestData(
+int vtkPenumbraSolver::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
@@ -92,22 +76,22 @@ int vtkPenumbraSolver::RequestData(
   vtkNew<vtkPolyData> scene;
   scene->ShallowCopy(input);
 
-  vtkNew<vtkDiscontinuityMesher> mesher;
+  vtkNew<vtkPenumbraDiscontinuityMesher> mesher;
   mesher->SetInputData(scene);
   mesher->SetMinimumAngle(this->MinimumAngle);
-  vtkNew<vtkRadianceEvaluator> evaluator;
+  vtkNew<vtkPenumbraRadianceEvaluator> evaluator;
   evaluator->SetInputConnection(0, mesher->GetOutputPort());
   evaluator->SetSceneData(scene);
   evaluator->SetSamplingTolerance(this->SamplingTolerance);
   evaluator->SetMaximumSamples(this->MaximumSamples);
-  vtkNew<vtkProgressiveShooter> shooter;
+  vtkNew<vtkPenumbraProgressiveShooter> shooter;
   shooter->SetInputConnection(0, evaluator->GetOutputPort());
   shooter->SetSceneData(scene);
   shooter->SetUnshotFraction(this->UnshotFraction);
   shooter->SetExactPowerFraction(this->ExactPowerFraction);
   shooter->SetMaximumIndirectSamples(this->MaximumIndirectSamples);
   shooter->SetReuseTransport(this->ReuseTransport);
-  vtkNew<vtkRadianceReconstructor> reconstructor;
+  vtkNew<vtkPenumbraRadianceReconstructor> reconstructor;
   reconstructor->SetInputConnection(
     this->Indirect ? shooter->GetOutputPort() : evaluator->GetOutputPort());
   reconstructor->SetSubdivisionLevel(this->SubdivisionLevel);

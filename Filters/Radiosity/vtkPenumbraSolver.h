@@ -4,9 +4,9 @@
  * @brief   The whole Penumbra pipeline in one filter, with good defaults:
  * scene in, solved and reconstructed radiance out.
  *
- * Runs vtkDiscontinuityMesher -> vtkRadianceEvaluator (exact direct light,
- * adaptive sampling) -> vtkProgressiveShooter (interreflections; skipped
- * when Indirect is off) -> vtkRadianceReconstructor on the scene of input
+ * Runs vtkPenumbraDiscontinuityMesher -> vtkPenumbraRadianceEvaluator (exact direct light,
+ * adaptive sampling) -> vtkPenumbraProgressiveShooter (interreflections; skipped
+ * when Indirect is off) -> vtkPenumbraRadianceReconstructor on the scene of input
  * port 0 (design contract: polygons with cell data `Reflectance` and
  * `Emission`). The output is the reconstructor's (triangles with `SurfaceId`,
  * point data `Radiance` and `RadianceErrorEstimate`, lines with
@@ -21,25 +21,25 @@
  * Only the most used settings are here; compose the four filters by hand
  * for the others.
  *
- * @sa vtkDiscontinuityMesher vtkRadianceEvaluator vtkProgressiveShooter
- * vtkRadianceReconstructor
+ * @sa vtkPenumbraDiscontinuityMesher vtkPenumbraRadianceEvaluator vtkPenumbraProgressiveShooter
+ * vtkPenumbraRadianceReconstructor
  */
 #ifndef vtkPenumbraSolver_h
 #define vtkPenumbraSolver_h
 
 #include "vtkPenumbraFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPenumbraAlgorithm.h"
 
-class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraSolver : public vtkPolyDataAlgorithm
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraSolver : public vtkPenumbraAlgorithm
 {
 public:
   static vtkPenumbraSolver* New();
-  vtkTypeMacro(vtkPenumbraSolver, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkPenumbraSolver, vtkPenumbraAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
   /**
-   * Compute the interreflections (vtkProgressiveShooter); off gives direct
+   * Compute the interreflections (vtkPenumbraProgressiveShooter); off gives direct
    * light only. Default on.
    */
   vtkSetMacro(Indirect, bool);
@@ -50,7 +50,7 @@ public:
   ///@{
   /**
    * Stop shooting when the unshot power is below this fraction of the
-   * emitted power (vtkProgressiveShooter::UnshotFraction). Default 1e-3,
+   * emitted power (vtkPenumbraProgressiveShooter::UnshotFraction). Default 1e-3,
    * range [0, 1].
    */
   vtkSetClampMacro(UnshotFraction, double, 0.0, 1.0);
@@ -61,7 +61,7 @@ public:
   /**
    * Secondary shots at least this fraction of the emitted power use the
    * exact method, weaker ones the hierarchical ray-cast method
-   * (vtkProgressiveShooter::ExactPowerFraction). Default 1 (every secondary
+   * (vtkPenumbraProgressiveShooter::ExactPowerFraction). Default 1 (every secondary
    * shot ray-cast: on the Cornell box it matched the exact method to 0.01%
    * of the mean at a quarter of the time), range [0, 1].
    */
@@ -72,7 +72,7 @@ public:
   ///@{
   /**
    * Adaptive sampling tolerance, relative to each surface's mean radiance
-   * (vtkRadianceEvaluator::SamplingTolerance). Default 0.002, range
+   * (vtkPenumbraRadianceEvaluator::SamplingTolerance). Default 0.002, range
    * [1e-6, 1].
    */
   vtkSetClampMacro(SamplingTolerance, double, 1e-6, 1.0);
@@ -82,7 +82,7 @@ public:
   ///@{
   /**
    * Adaptive sampling budget of the whole scene, shared among surfaces by
-   * area (vtkRadianceEvaluator::MaximumSamples). Default 500000 (the
+   * area (vtkPenumbraRadianceEvaluator::MaximumSamples). Default 500000 (the
    * Cornell box uses 13% of it; a 20,000-polygon room reaches it), range
    * [0, 2000000000]; 0 = no scene budget.
    */
@@ -94,7 +94,7 @@ public:
   /**
    * Largest number of samples the interreflections are computed at; larger
    * inputs shoot on a coarse level and interpolate the indirect light onto
-   * every sample (vtkProgressiveShooter::MaximumIndirectSamples). Default
+   * every sample (vtkPenumbraProgressiveShooter::MaximumIndirectSamples). Default
    * 100000, range [0, 2000000000]; 0 = always every sample.
    */
   vtkSetClampMacro(MaximumIndirectSamples, vtkIdType, 0, 2000000000);
@@ -105,7 +105,7 @@ public:
   /**
    * Once every remaining shot is weak, shoot all surfaces at once (Jacobi
    * sweeps) through a transport recorded on the first sweep, later sweeps
-   * tracing no rays (vtkProgressiveShooter::ReuseTransport). Off: weak
+   * tracing no rays (vtkPenumbraProgressiveShooter::ReuseTransport). Off: weak
    * shots one orientation at a time, each tracing its rays. Default on.
    */
   vtkSetMacro(ReuseTransport, bool);
@@ -116,7 +116,7 @@ public:
   ///@{
   /**
    * Quality refinement of the discontinuity meshes: smallest angle in
-   * degrees (vtkDiscontinuityMesher::MinimumAngle). Default 0 (none), range
+   * degrees (vtkPenumbraDiscontinuityMesher::MinimumAngle). Default 0 (none), range
    * [0, 20.6] (the mesher's limit).
    */
   vtkSetClampMacro(MinimumAngle, double, 0.0, 20.6);
@@ -126,7 +126,7 @@ public:
   ///@{
   /**
    * Display resampling: each sample triangle's edges are cut in this many
-   * pieces (vtkRadianceReconstructor::SubdivisionLevel). Default 2, range
+   * pieces (vtkPenumbraRadianceReconstructor::SubdivisionLevel). Default 2, range
    * [1, 64].
    */
   vtkSetClampMacro(SubdivisionLevel, int, 1, 64);
@@ -137,7 +137,7 @@ protected:
   vtkPenumbraSolver() = default;
   ~vtkPenumbraSolver() override = default;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   bool Indirect = true;
   double UnshotFraction = 1e-3;

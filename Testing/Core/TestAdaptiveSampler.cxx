@@ -990,7 +990,7 @@ void TestSmallFeatureIsResolved()
 //------------------------------------------------------------------------------
 // The same small feature far from the origin (coordinates 1e4): refinement
 // stops 1e7 ulps above the coordinates' rounding, so the output, written in
-// 3D and projected again (as vtkRadianceReconstructor does), keeps every
+// 3D and projected again (as vtkPenumbraRadianceReconstructor does), keeps every
 // triangle counter-clockwise. Refined down to the feature's floor (1e-7
 // here), slivers came back flat or flipped (a 1,000-polygon room's
 // evaluator output was refused by the reconstructor).

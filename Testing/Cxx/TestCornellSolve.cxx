@@ -7,18 +7,18 @@
 // memcheck, so it needs no display and links no rendering.
 //
 // Usage: TestCornellSolve [unshot fraction, default 0.01]
-//          [sampling tolerance, default 0.002 (vtkRadianceEvaluator's)]
+//          [sampling tolerance, default 0.002 (vtkPenumbraRadianceEvaluator's)]
 // (the test suite runs it coarse, 0.1 and 0.05, for time).
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
-#include "vtkDiscontinuityMesher.h"
+#include "vtkPenumbraDiscontinuityMesher.h"
 #include "vtkNew.h"
 #include "vtkPenumbraSceneSource.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
-#include "vtkProgressiveShooter.h"
-#include "vtkRadianceEvaluator.h"
-#include "vtkRadianceReconstructor.h"
+#include "vtkPenumbraProgressiveShooter.h"
+#include "vtkPenumbraRadianceEvaluator.h"
+#include "vtkPenumbraRadianceReconstructor.h"
 
 #include <chrono>
 #include <cmath>
@@ -33,19 +33,19 @@ int TestCornellSolve(int argc, char* argv[])
 
   vtkNew<vtkPenumbraSceneSource> scene;
   scene->SetSceneName("cornell");
-  vtkNew<vtkDiscontinuityMesher> mesher;
+  vtkNew<vtkPenumbraDiscontinuityMesher> mesher;
   mesher->SetInputConnection(scene->GetOutputPort());
-  vtkNew<vtkRadianceEvaluator> evaluator;
+  vtkNew<vtkPenumbraRadianceEvaluator> evaluator;
   evaluator->SetInputConnection(0, mesher->GetOutputPort());
   evaluator->SetSceneConnection(scene->GetOutputPort());
   evaluator->SetSamplingTolerance(samplingTolerance);
-  vtkNew<vtkProgressiveShooter> shooter;
+  vtkNew<vtkPenumbraProgressiveShooter> shooter;
   shooter->SetInputConnection(0, evaluator->GetOutputPort());
   shooter->SetSceneConnection(scene->GetOutputPort());
   shooter->SetUnshotFraction(unshotFraction);
   // As penumbra.solve: secondary shots by the hierarchical method.
   shooter->SetExactPowerFraction(1.0);
-  vtkNew<vtkRadianceReconstructor> reconstructor;
+  vtkNew<vtkPenumbraRadianceReconstructor> reconstructor;
   reconstructor->SetInputConnection(shooter->GetOutputPort());
   reconstructor->Update();
 

@@ -5,7 +5,7 @@
 #include "penumbraTestRendering.h"
 
 #include "vtkCellArray.h"
-#include "vtkDiscontinuityMesher.h"
+#include "vtkPenumbraDiscontinuityMesher.h"
 #include "vtkIntArray.h"
 #include "vtkPenumbraSceneSource.h"
 #include "vtkPoints.h"
@@ -18,7 +18,7 @@ int main(int argc, char* argv[])
 {
   vtkNew<vtkPenumbraSceneSource> source;
   source->SetSceneName("cornell");
-  vtkNew<vtkDiscontinuityMesher> mesher;
+  vtkNew<vtkPenumbraDiscontinuityMesher> mesher;
   mesher->SetInputConnection(source->GetOutputPort());
   mesher->Update();
   vtkPolyData* mesh = mesher->GetOutput();

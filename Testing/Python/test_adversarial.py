@@ -9,7 +9,7 @@ Each case is solved by the default pipeline (`penumbra.solve`, direct light
 only unless the case says otherwise) and checked at random points of its
 receivers, inside the output triangles, where the displayed value (the linear
 interpolation of `Radiance` over an output triangle) is compared with the
-exact evaluator (vtkRadianceEvaluator, method EXACT, evaluated at those very
+exact evaluator (vtkPenumbraRadianceEvaluator, method EXACT, evaluated at those very
 points: visible part of the light + closed-form integral). The reference is
 checked against closed forms where they exist (test_evaluator.py). Checks:
   - no crash, no NaN or infinity, no negative radiance at any output point;
@@ -183,10 +183,10 @@ def exact_radiance(scene, points, surfaces):
     ids = numpy_to_vtk(np.ascontiguousarray(surfaces, dtype=np.int32), deep=True)
     ids.SetName("SurfaceId")
     data.GetPointData().AddArray(ids)
-    evaluator = penumbra.vtkRadianceEvaluator()
+    evaluator = penumbra.vtkPenumbraRadianceEvaluator()
     evaluator.SetInputData(0, data)
     evaluator.SetSceneData(scene)
-    evaluator.SetMethod(penumbra.vtkRadianceEvaluator.EXACT)
+    evaluator.SetMethod(penumbra.vtkPenumbraRadianceEvaluator.EXACT)
     evaluator.AdaptiveSamplingOff()
     return vtk_to_numpy(penumbra.run_filter(evaluator).GetPointData().GetArray(
         "Radiance")).astype(float)

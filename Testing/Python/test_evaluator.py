@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vtkRadianceEvaluator: closed-form values through the filter, thread-count
+"""vtkPenumbraRadianceEvaluator: closed-form values through the filter, thread-count
 independence, settings and error paths."""
 import math
 import subprocess
@@ -12,6 +12,8 @@ from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 
 import penumbra
+
+RAY_CAST = penumbra.vtkPenumbraRadianceEvaluator.RAY_CAST
 from penumbra.pipeline import point_samples as samples
 
 
@@ -41,7 +43,7 @@ def cell_of(scene, predicate):
 
 
 def evaluate(scene, sample_data, **settings):
-    evaluator = penumbra.vtkRadianceEvaluator()
+    evaluator = penumbra.vtkPenumbraRadianceEvaluator()
     evaluator.SetInputData(0, sample_data)
     evaluator.SetSceneData(scene)
     for name, value in settings.items():
@@ -108,7 +110,7 @@ def test_ray_cast_converges_to_exact():
     exact = vtk_to_numpy(evaluate(scene, samples(pts, floor)).GetPointData().GetArray("Radiance"))
     errors = []
     for tolerance in (1e-1, 1e-2, 1e-3):
-        ray = evaluate(scene, samples(pts, floor), Method=penumbra.vtkRadianceEvaluator.RAY_CAST,
+        ray = evaluate(scene, samples(pts, floor), Method=RAY_CAST,
                        RayCastTolerance=tolerance)
         values = vtk_to_numpy(ray.GetPointData().GetArray("Radiance"))
         errors.append(np.sqrt(np.mean((values - exact) ** 2)) / exact.mean())
@@ -163,7 +165,7 @@ def test_one_and_two_threads_give_identical_output(tmp_path):
 
 
 def test_settings_and_print_self():
-    evaluator = penumbra.vtkRadianceEvaluator()
+    evaluator = penumbra.vtkPenumbraRadianceEvaluator()
     assert evaluator.GetMethod() == evaluator.EXACT
     evaluator.SetMethod(7)
     assert evaluator.GetMethod() == evaluator.RAY_CAST
@@ -185,7 +187,7 @@ def test_errors_name_the_problem():
     no_ids.GetCellData().RemoveArray("SurfaceId")
     with pytest.raises(penumbra.PenumbraError, match="no 'SurfaceId'"):
         evaluate(scene, no_ids)
-    evaluator = penumbra.vtkRadianceEvaluator()
+    evaluator = penumbra.vtkPenumbraRadianceEvaluator()
     evaluator.SetInputData(0, samples([(0.1, 0, 0.1)], 0))
     evaluator.SetSceneData(scene)
     evaluator.AddShooterId(1000)
@@ -236,7 +238,7 @@ def half_lit_scene():
 
 
 def evaluate_with_function(scene, sample_data, function, method=None, tolerance=None):
-    evaluator = penumbra.vtkRadianceEvaluator()
+    evaluator = penumbra.vtkPenumbraRadianceEvaluator()
     evaluator.SetInputData(0, sample_data)
     evaluator.SetSceneData(scene)
     evaluator.SetShooterRadianceData(function)
@@ -271,7 +273,7 @@ def test_half_lit_shooter_shifts_the_peak_and_methods_agree():
     constant = evaluate_with_function(scene, pts, shooter_function([-0.5, 0.5], lambda x: (1.0,) * 3))[:, 0]
     assert abs(xs[np.argmax(constant)]) < 0.03
     assert xs[np.argmax(exact)] > 0.2
-    ray = evaluate_with_function(scene, pts, half, method=penumbra.vtkRadianceEvaluator.RAY_CAST,
+    ray = evaluate_with_function(scene, pts, half, method=RAY_CAST,
                                  tolerance=1e-4)[:, 0]
     difference = np.max(np.abs(ray - exact)) / exact.max()
     print("half-lit shooter: peak at x = %.3f (constant: %.3f); ray-cast vs exact max "

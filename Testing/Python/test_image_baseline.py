@@ -48,7 +48,7 @@ def _seven_floor_reconstructions():
     source.SetOutput(penumbra.load_scene("seven"))
     stages = build_pipeline(source.GetOutputPort(), indirect=False)
     stages["evaluator"].SetSamplingTolerance(0.05)
-    linear = penumbra.vtkRadianceReconstructor()
+    linear = penumbra.vtkPenumbraRadianceReconstructor()
     linear.SetInputConnection(stages["evaluator"].GetOutputPort())
     linear.SetModeToLinear()
     linear.SetSubdivisionLevel(stages["reconstructor"].GetSubdivisionLevel())

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vtkDiscontinuityMesher: output contract, areas, contacts, settings, errors."""
+"""vtkPenumbraDiscontinuityMesher: output contract, areas, contacts, settings, errors."""
 import numpy as np
 import pytest
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -10,7 +10,7 @@ import penumbra
 def mesh(scene_name, **settings):
     source = penumbra.vtkPenumbraSceneSource()
     source.SetSceneName(scene_name)
-    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher = penumbra.vtkPenumbraDiscontinuityMesher()
     mesher.SetInputConnection(source.GetOutputPort())
     for name, value in settings.items():
         getattr(mesher, "Set" + name)(value)
@@ -86,7 +86,7 @@ def test_minimum_angle_refines_and_jump_threshold_drops():
 
 
 def test_settings_clamp_and_print():
-    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher = penumbra.vtkPenumbraDiscontinuityMesher()
     mesher.SetMinimumAngle(45)
     assert mesher.GetMinimumAngle() == 20.6
     mesher.SetJumpThreshold(-1)
@@ -100,7 +100,7 @@ def test_settings_clamp_and_print():
 
 def test_bad_shooter_id_is_an_error():
     source = penumbra.vtkPenumbraSceneSource()
-    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher = penumbra.vtkPenumbraDiscontinuityMesher()
     mesher.SetInputConnection(source.GetOutputPort())
     mesher.AddShooterId(99)
     with pytest.raises(penumbra.PenumbraError, match="ShooterIds: 99"):
@@ -109,7 +109,7 @@ def test_bad_shooter_id_is_an_error():
 
 def boundary_lines(scene, **settings):
     """The mesher's output lines grouped by (SurfaceId, DiscontinuityOrder, SourceId)."""
-    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher = penumbra.vtkPenumbraDiscontinuityMesher()
     mesher.SetInputData(scene)
     for name, value in settings.items():
         getattr(mesher, "Set" + name)(value)

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vtkRadianceReconstructor through the pipeline: contract, positivity,
+"""vtkPenumbraRadianceReconstructor through the pipeline: contract, positivity,
 agreement with exact values, Linear mode, errors."""
 import numpy as np
 import pytest
@@ -12,13 +12,13 @@ import penumbra
 def direct_pipeline(scene_name, mode=None, minimum_angle=20.0, level=3):
     source = penumbra.vtkPenumbraSceneSource()
     source.SetSceneName(scene_name)
-    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher = penumbra.vtkPenumbraDiscontinuityMesher()
     mesher.SetInputConnection(source.GetOutputPort())
     mesher.SetMinimumAngle(minimum_angle)
-    evaluator = penumbra.vtkRadianceEvaluator()
+    evaluator = penumbra.vtkPenumbraRadianceEvaluator()
     evaluator.SetInputConnection(0, mesher.GetOutputPort())
     evaluator.SetSceneConnection(source.GetOutputPort())
-    reconstructor = penumbra.vtkRadianceReconstructor()
+    reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
     reconstructor.SetInputConnection(evaluator.GetOutputPort())
     reconstructor.SetSubdivisionLevel(level)
     if mode is not None:
@@ -50,7 +50,7 @@ def test_samples_are_reproduced_exactly():
     probe = vtkPolyData()
     probe.ShallowCopy(out)
     probe.GetPointData().RemoveArray("Radiance")
-    exact_filter = penumbra.vtkRadianceEvaluator()
+    exact_filter = penumbra.vtkPenumbraRadianceEvaluator()
     exact_filter.SetInputData(0, probe)
     exact_filter.SetSceneConnection(source.GetOutputPort())
     exact_filter.AdaptiveSamplingOff()  # evaluate at the output points as they are
@@ -79,22 +79,22 @@ def test_samples_are_reproduced_exactly():
 
 
 def test_linear_mode_is_available():
-    out, _, _ = direct_pipeline("occluder", mode=penumbra.vtkRadianceReconstructor.LINEAR)
+    out, _, _ = direct_pipeline("occluder", mode=penumbra.vtkPenumbraRadianceReconstructor.LINEAR)
     assert out.GetNumberOfPolys() > 0
 
 
 def test_missing_radiance_is_an_error():
     source = penumbra.vtkPenumbraSceneSource()
-    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher = penumbra.vtkPenumbraDiscontinuityMesher()
     mesher.SetInputConnection(source.GetOutputPort())
-    reconstructor = penumbra.vtkRadianceReconstructor()
+    reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
     reconstructor.SetInputConnection(mesher.GetOutputPort())
     with pytest.raises(penumbra.PenumbraError, match="'Radiance'"):
         penumbra.run_filter(reconstructor)
 
 
 def test_settings_clamp_and_print():
-    reconstructor = penumbra.vtkRadianceReconstructor()
+    reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
     reconstructor.SetSubdivisionLevel(1000)
     assert reconstructor.GetSubdivisionLevel() == 64
     text = str(reconstructor)

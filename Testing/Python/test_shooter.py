@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""vtkProgressiveShooter through the composed pipeline: furnace, energy
+"""vtkPenumbraProgressiveShooter through the composed pipeline: furnace, energy
 balance, thread independence, settings and errors."""
 import os
 import subprocess
@@ -68,7 +68,7 @@ def test_one_and_two_threads_give_identical_output(tmp_path):
 
 
 def test_settings_clamp_and_print():
-    shooter = penumbra.vtkProgressiveShooter()
+    shooter = penumbra.vtkPenumbraProgressiveShooter()
     shooter.SetUnshotFraction(2)
     assert shooter.GetUnshotFraction() == 1
     shooter.SetOpeningAngle(0)
@@ -80,9 +80,9 @@ def test_settings_clamp_and_print():
 
 def test_missing_radiance_is_an_error():
     source = penumbra.vtkPenumbraSceneSource()
-    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher = penumbra.vtkPenumbraDiscontinuityMesher()
     mesher.SetInputConnection(source.GetOutputPort())
-    shooter = penumbra.vtkProgressiveShooter()
+    shooter = penumbra.vtkPenumbraProgressiveShooter()
     shooter.SetInputConnection(0, mesher.GetOutputPort())
     shooter.SetSceneConnection(source.GetOutputPort())
     with pytest.raises(penumbra.PenumbraError, match="'Radiance'"):

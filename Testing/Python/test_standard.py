@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The standard radiosity baseline (vtkStandardRadiositySolver) through VTK,
+"""The standard radiosity baseline (vtkPenumbraStandardRadiositySolver) through VTK,
 penumbra.solve(method="standard") and the command line: the furnace through
 the VTK conversion, the energy identity in the field data, progress events,
 the output contract, and one-line errors."""
@@ -48,7 +48,7 @@ def field(data, name):
 
 
 def test_energy_balance_and_report():
-    solver = penumbra.vtkStandardRadiositySolver()
+    solver = penumbra.vtkPenumbraStandardRadiositySolver()
     source = penumbra.vtkPenumbraSceneSource()
     source.SetSceneName("cornell")
     solver.SetInputConnection(source.GetOutputPort())
@@ -88,7 +88,7 @@ def test_output_contract():
 
 
 def test_printself_and_empty_input():
-    solver = penumbra.vtkStandardRadiositySolver()
+    solver = penumbra.vtkPenumbraStandardRadiositySolver()
     text = str(solver)
     for name in ("PatchSize: 0.5", "ElementSize: 0.05", "ShooterSamples: 4",
                  "FormFactorMode: ANALYTIC_VISIBILITY", "SubdivisionThreshold: 0.2",
@@ -100,7 +100,7 @@ def test_printself_and_empty_input():
 
 def test_bad_input_and_settings():
     scene = furnace_box((1.5, 0.5, 0.5), (1.0, 1.0, 1.0))
-    solver = penumbra.vtkStandardRadiositySolver()
+    solver = penumbra.vtkPenumbraStandardRadiositySolver()
     solver.SetInputData(scene)
     with pytest.raises(penumbra.PenumbraError, match="cell 0"):
         penumbra.run_filter(solver)

@@ -17,18 +17,26 @@ import vtkmodules.vtkCommonDataModel  # noqa: F401
 import vtkmodules.vtkCommonExecutionModel  # noqa: F401
 
 from .vtkPenumbraFilters import (  # noqa: F401
-    vtkDiscontinuityMesher,
+    vtkPenumbraAlgorithm,
+    vtkPenumbraDiscontinuityMesher,
     vtkPenumbraOBJReader,
     vtkPenumbraSceneSource,
     vtkPenumbraSceneValidator,
     vtkPenumbraSolver,
-    vtkProgressiveShooter,
-    vtkRadianceEvaluator,
-    vtkRadianceReconstructor,
-    vtkStandardRadiositySolver,
+    vtkPenumbraProgressiveShooter,
+    vtkPenumbraRadianceEvaluator,
+    vtkPenumbraRadianceReconstructor,
+    vtkPenumbraStandardRadiositySolver,
 )
 
-import os
+# The stage filters under the names of the paper's stages, without the prefix.
+vtkDiscontinuityMesher = vtkPenumbraDiscontinuityMesher
+vtkRadianceEvaluator = vtkPenumbraRadianceEvaluator
+vtkProgressiveShooter = vtkPenumbraProgressiveShooter
+vtkRadianceReconstructor = vtkPenumbraRadianceReconstructor
+vtkStandardRadiositySolver = vtkPenumbraStandardRadiositySolver
+
+import os  # noqa: E402
 
 from .pipeline import solve  # noqa: E402,F401
 
@@ -76,29 +84,14 @@ def run_filter(algorithm, context=None):
         vtkOutputWindow.SetInstance(previous_window)
         vtkLogger.SetStderrVerbosity(previous_verbosity)
     # The output window holds errors of helper objects (e.g. the XML parser,
-    # whose message is the most specific) in order; the executive's generic
-    # "returned failure" adds nothing.
-    messages = [m for m in _split_vtk_errors(window.GetOutput())
-                if "returned failure for request" not in m] + messages
-    if messages:
-        message = _strip_vtk_prefix(messages[0])
+    # whose message is the most specific) in order, before the filter's own.
+    texts = [vtkPenumbraAlgorithm.ErrorText(m)
+             for m in [window.GetOutput()] + messages]
+    texts = [t for t in texts if t]
+    if texts:
+        message = texts[0]
         raise PenumbraError("%s: %s" % (context, message) if context else message)
     return algorithm.GetOutputDataObject(0)
-
-
-def _split_vtk_errors(text):
-    # The output window writes "ERROR: In file, line N\nvtkClass (0x...): text\n\n".
-    blocks = [b.strip() for b in text.split("ERROR: In ") if b.strip()]
-    return [b.split("\n", 1)[1] if "\n" in b else b for b in blocks
-            if not b.startswith("WARNING")]
-
-
-def _strip_vtk_prefix(message):
-    # Keep the text after "vtkClass (0x...): " on the first line that has it.
-    for line in message.strip().splitlines():
-        if "): " in line:
-            return " ".join(line.split("): ", 1)[1].split())
-    return " ".join(message.split())
 
 
 # zlib, the densest compressor VTK writes, packs at most ~1032 bytes into one.

@@ -8,7 +8,7 @@ seen from its front, cell arrays `Reflectance` and `Emission`)::
 
     import penumbra.generators
     scene = penumbra.generators.box_room(1000, seed=3)
-    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher = penumbra.vtkPenumbraDiscontinuityMesher()
     mesher.SetInputData(scene)
     penumbra.run_filter(mesher)
 

@@ -3,7 +3,7 @@
 defaults and returns the result vtkPolyData (design contract: triangles with
 `SurfaceId`, point data `Radiance` and `RadianceErrorEstimate`, lines with
 `DiscontinuityOrder` and `SourceId`). `solve(scene, method="standard")` runs
-the standard radiosity baseline instead (vtkStandardRadiositySolver: same
+the standard radiosity baseline instead (vtkPenumbraStandardRadiositySolver: same
 contract, no `RadianceErrorEstimate`)."""
 
 METHODS = ("discontinuity", "standard")
@@ -13,7 +13,7 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 
 def point_samples(points, surface_id):
-    """Sample points for vtkRadianceEvaluator's input port 0: one vertex cell
+    """Sample points for vtkPenumbraRadianceEvaluator's input port 0: one vertex cell
     per point (double precision), all on surface `surface_id` (cell data
     `SurfaceId`). The evaluator then gives the radiance at exactly these points."""
     from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
@@ -51,23 +51,23 @@ def build_pipeline(scene_port, minimum_angle=None, subdivision_level=None, indir
     exact_power_fraction = (defaults.GetExactPowerFraction() if exact_power_fraction is None
                             else exact_power_fraction)
 
-    mesher = penumbra.vtkDiscontinuityMesher()
+    mesher = penumbra.vtkPenumbraDiscontinuityMesher()
     mesher.SetInputConnection(scene_port)
     mesher.SetMinimumAngle(minimum_angle)
-    evaluator = penumbra.vtkRadianceEvaluator()
+    evaluator = penumbra.vtkPenumbraRadianceEvaluator()
     evaluator.SetInputConnection(0, mesher.GetOutputPort())
     evaluator.SetSceneConnection(scene_port)
     stages = {"mesher": mesher, "evaluator": evaluator}
     last = evaluator
     if indirect:
-        shooter = penumbra.vtkProgressiveShooter()
+        shooter = penumbra.vtkPenumbraProgressiveShooter()
         shooter.SetInputConnection(0, evaluator.GetOutputPort())
         shooter.SetSceneConnection(scene_port)
         shooter.SetUnshotFraction(unshot_fraction)
         shooter.SetExactPowerFraction(exact_power_fraction)
         stages["shooter"] = shooter
         last = shooter
-    reconstructor = penumbra.vtkRadianceReconstructor()
+    reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
     reconstructor.SetInputConnection(last.GetOutputPort())
     reconstructor.SetSubdivisionLevel(subdivision_level)
     stages["reconstructor"] = reconstructor
@@ -78,12 +78,12 @@ def build_standard(scene_port, unshot_fraction=None, element_size=None, patch_si
                    subdivision_threshold=None, maximum_subdivision_depth=None,
                    shooter_samples=None, form_factor="analytic"):
     """The standard radiosity baseline after `scene_port`, as a one-stage dict
-    {"standard": vtkStandardRadiositySolver}; None keeps the filter's default.
+    {"standard": vtkPenumbraStandardRadiositySolver}; None keeps the filter's default.
     form_factor: "analytic" (closed form times the ray-cast visible fraction,
     the default) or "disc" (Wallace et al.'s disc sum, as published)."""
     import penumbra
 
-    solver = penumbra.vtkStandardRadiositySolver()
+    solver = penumbra.vtkPenumbraStandardRadiositySolver()
     modes = {"analytic": solver.ANALYTIC_VISIBILITY, "disc": solver.DISC}
     if form_factor not in modes:
         raise penumbra.PenumbraError("form_factor must be 'analytic' or 'disc', got '%s'"
@@ -115,7 +115,8 @@ def solve(scene, threads=None, minimum_angle=None, subdivision_level=None, indir
     level, vtkPenumbraSolver::MaximumIndirectSamples);
     reuse_transport: weak shots as Jacobi sweeps through a transport
     recorded once (vtkPenumbraSolver::ReuseTransport, default on). Settings
-    left None keep the defaults of vtkPenumbraSolver (or vtkStandardRadiositySolver). progress: a callable
+    left None keep the defaults of vtkPenumbraSolver (or
+    vtkPenumbraStandardRadiositySolver). progress: a callable
     progress(stage_name, fraction) called as the solve runs (fraction of
     the whole solve, from 0 to 1). method:
     "discontinuity" (the default, the paper's method) or "standard" (the

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /**
- * @class   vtkDiscontinuityMesher
+ * @class   vtkPenumbraDiscontinuityMesher
  * @brief   Discontinuity meshing of every receiving surface (paper §4).
  *
  * Input: a scene (see vtkPenumbraSceneValidator for its contract). For every
@@ -29,21 +29,21 @@
  * Receivers are meshed in parallel with vtkSMPTools; the output does not
  * depend on the number of threads.
  *
- * @sa vtkRadianceEvaluator vtkPenumbraSceneValidator
+ * @sa vtkPenumbraRadianceEvaluator vtkPenumbraSceneValidator
  */
-#ifndef vtkDiscontinuityMesher_h
-#define vtkDiscontinuityMesher_h
+#ifndef vtkPenumbraDiscontinuityMesher_h
+#define vtkPenumbraDiscontinuityMesher_h
 
 #include "vtkPenumbraFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPenumbraAlgorithm.h"
 
 #include <vector> // for std::vector
 
-class VTKPENUMBRAFILTERS_EXPORT vtkDiscontinuityMesher : public vtkPolyDataAlgorithm
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraDiscontinuityMesher : public vtkPenumbraAlgorithm
 {
 public:
-  static vtkDiscontinuityMesher* New();
-  vtkTypeMacro(vtkDiscontinuityMesher, vtkPolyDataAlgorithm);
+  static vtkPenumbraDiscontinuityMesher* New();
+  vtkTypeMacro(vtkPenumbraDiscontinuityMesher, vtkPenumbraAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -154,10 +154,10 @@ public:
   ///@}
 
 protected:
-  vtkDiscontinuityMesher() = default;
-  ~vtkDiscontinuityMesher() override = default;
+  vtkPenumbraDiscontinuityMesher() = default;
+  ~vtkPenumbraDiscontinuityMesher() override = default;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   std::vector<vtkIdType> ShooterIds;
   double ShooterPowerFraction = 0.0;
@@ -171,8 +171,8 @@ protected:
   bool CullWedges = true;
 
 private:
-  vtkDiscontinuityMesher(const vtkDiscontinuityMesher&) = delete;
-  void operator=(const vtkDiscontinuityMesher&) = delete;
+  vtkPenumbraDiscontinuityMesher(const vtkPenumbraDiscontinuityMesher&) = delete;
+  void operator=(const vtkPenumbraDiscontinuityMesher&) = delete;
 };
 
 #endif

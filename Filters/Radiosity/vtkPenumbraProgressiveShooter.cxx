@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "vtkProgressiveShooter.h"
+#include "vtkPenumbraProgressiveShooter.h"
 
 #include "vtkPenumbraSceneConversion.h"
 
@@ -24,20 +24,20 @@
 #include <sstream>
 #include <unordered_map>
 
-vtkStandardNewMacro(vtkProgressiveShooter);
+vtkStandardNewMacro(vtkPenumbraProgressiveShooter);
 
-vtkProgressiveShooter::vtkProgressiveShooter()
+vtkPenumbraProgressiveShooter::vtkPenumbraProgressiveShooter()
 {
   this->SetNumberOfInputPorts(2);
 }
 
-int vtkProgressiveShooter::FillInputPortInformation(int, vtkInformation* info)
+int vtkPenumbraProgressiveShooter::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
   return 1;
 }
 
-int vtkProgressiveShooter::RequestData(
+int vtkPenumbraProgressiveShooter::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* samples = vtkPolyData::GetData(inputVector[0]);
@@ -54,7 +54,7 @@ int vtkProgressiveShooter::RequestData(
   {
     output->Initialize();
     vtkErrorMacro(<< "the samples need a 3-component point array 'Radiance' (the direct "
-                     "solution of vtkRadianceEvaluator) and a cell array 'SurfaceId'");
+                     "solution of vtkPenumbraRadianceEvaluator) and a cell array 'SurfaceId'");
     return 0;
   }
 
@@ -253,7 +253,7 @@ int vtkProgressiveShooter::RequestData(
   return 1;
 }
 
-void vtkProgressiveShooter::PrintSelf(ostream& os, vtkIndent indent)
+void vtkPenumbraProgressiveShooter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "UnshotFraction: " << this->UnshotFraction << "\n";

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /**
- * @class   vtkRadianceEvaluator
+ * @class   vtkPenumbraRadianceEvaluator
  * @brief   Radiance at sample points from the scene's shooters (paper §5).
  *
  * Input port 0 holds the sample points: any vtkPolyData whose points lie on
  * the scene's surfaces, each point's surface given by a `SurfaceId` point
  * array or, failing that, by the `SurfaceId` cell array of a cell that uses
- * the point (the output of vtkDiscontinuityMesher is such a mesh). Input
+ * the point (the output of vtkPenumbraDiscontinuityMesher is such a mesh). Input
  * port 1 is the scene (see vtkPenumbraSceneValidator for its contract).
  *
  * For every sample x on receiver i the filter computes the radiance
@@ -33,7 +33,7 @@
  * port 2.
  *
  * Adaptive sampling (paper §4, on by default): when the samples are a
- * triangle mesh (vtkDiscontinuityMesher's output: triangles with
+ * triangle mesh (vtkPenumbraDiscontinuityMesher's output: triangles with
  * `SurfaceId`, lines with `DiscontinuityOrder` and `SourceId`, points on
  * order-0 lines duplicated per side), each surface's mesh is refined by
  * constrained Delaunay point insertions that keep every boundary, until
@@ -45,27 +45,27 @@
  * `SamplingResidual` (3 components: the largest |true - interpolated|
  * radiance found at the triangle's last probes; -1 where the triangle was
  * not probed; 0 on lines), which
- * vtkRadianceReconstructor turns into its error estimate, and the field
+ * vtkPenumbraRadianceReconstructor turns into its error estimate, and the field
  * array `Evaluations`.
  *
  * Work is spread over threads with vtkSMPTools; every point is computed
  * independently, so the output does not depend on the number of threads.
  *
- * @sa vtkDiscontinuityMesher vtkPenumbraSceneValidator
+ * @sa vtkPenumbraDiscontinuityMesher vtkPenumbraSceneValidator
  */
-#ifndef vtkRadianceEvaluator_h
-#define vtkRadianceEvaluator_h
+#ifndef vtkPenumbraRadianceEvaluator_h
+#define vtkPenumbraRadianceEvaluator_h
 
 #include "vtkPenumbraFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPenumbraAlgorithm.h"
 
 #include <vector> // for std::vector
 
-class VTKPENUMBRAFILTERS_EXPORT vtkRadianceEvaluator : public vtkPolyDataAlgorithm
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraRadianceEvaluator : public vtkPenumbraAlgorithm
 {
 public:
-  static vtkRadianceEvaluator* New();
-  vtkTypeMacro(vtkRadianceEvaluator, vtkPolyDataAlgorithm);
+  static vtkPenumbraRadianceEvaluator* New();
+  vtkTypeMacro(vtkPenumbraRadianceEvaluator, vtkPenumbraAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// Evaluation methods.
@@ -146,7 +146,7 @@ public:
    * Longest sample-triangle edge after adaptive sampling, as a fraction of
    * the scene's bounding-box diagonal: longer edges are split whatever the
    * shooters' radiance does there, so that light arriving later by
-   * interreflection (vtkProgressiveShooter), which varies where the direct
+   * interreflection (vtkPenumbraProgressiveShooter), which varies where the direct
    * light does not (in umbrae, on evenly lit or unlit surfaces), has
    * samples to land on. 0 turns the limit off. Default 1/32 (the Cornell
    * box: 3 cm), range [0, 1].
@@ -206,11 +206,11 @@ public:
   void SetShooterRadianceData(vtkDataObject* radiance) { this->SetInputData(2, radiance); }
 
 protected:
-  vtkRadianceEvaluator();
-  ~vtkRadianceEvaluator() override = default;
+  vtkPenumbraRadianceEvaluator();
+  ~vtkPenumbraRadianceEvaluator() override = default;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int Method = EXACT;
   double RayCastTolerance = 1e-3;
@@ -224,8 +224,8 @@ protected:
   std::vector<vtkIdType> ShooterIds;
 
 private:
-  vtkRadianceEvaluator(const vtkRadianceEvaluator&) = delete;
-  void operator=(const vtkRadianceEvaluator&) = delete;
+  vtkPenumbraRadianceEvaluator(const vtkPenumbraRadianceEvaluator&) = delete;
+  void operator=(const vtkPenumbraRadianceEvaluator&) = delete;
 };
 
 #endif

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "vtkRadianceReconstructor.h"
+#include "vtkPenumbraRadianceReconstructor.h"
 
 #include "vtkPenumbraSceneConversion.h"
 
@@ -26,7 +26,7 @@
 #include <sstream>
 #include <unordered_map>
 
-vtkStandardNewMacro(vtkRadianceReconstructor);
+vtkStandardNewMacro(vtkPenumbraRadianceReconstructor);
 
 namespace
 {
@@ -160,7 +160,7 @@ void ReconstructSurface(const SurfaceCells& cells, vtkPoints* points, vtkDataArr
 }
 }
 
-int vtkRadianceReconstructor::RequestData(
+int vtkPenumbraRadianceReconstructor::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
@@ -182,7 +182,7 @@ int vtkRadianceReconstructor::RequestData(
   if (!radiance || radiance->GetNumberOfComponents() != 3)
   {
     vtkErrorMacro(<< "the input needs a 3-component point array 'Radiance' "
-                     "(run vtkRadianceEvaluator first)");
+                     "(run vtkPenumbraRadianceEvaluator first)");
     return 0;
   }
   if (!surfaceIds)
@@ -339,7 +339,7 @@ int vtkRadianceReconstructor::RequestData(
   return 1;
 }
 
-void vtkRadianceReconstructor::PrintSelf(ostream& os, vtkIndent indent)
+void vtkPenumbraRadianceReconstructor::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Mode: " << (this->Mode == LINEAR ? "LINEAR" : "CLOUGH_TOCHER") << "\n";

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /**
- * @class   vtkProgressiveShooter
+ * @class   vtkPenumbraProgressiveShooter
  * @brief   Global illumination by progressive shooting of radiance functions (paper §3).
  *
  * Input port 0: the sample mesh with the direct solution, as produced by
- * vtkRadianceEvaluator with its default shooters (every emitter): triangles
+ * vtkPenumbraRadianceEvaluator with its default shooters (every emitter): triangles
  * with cell data `SurfaceId`, point data `Radiance` = emission + direct
  * light. Input port 1: the scene.
  *
@@ -31,19 +31,19 @@
  * shooters in order). Progress is reported per shot and abort is honoured
  * between shots.
  *
- * @sa vtkRadianceEvaluator vtkRadianceReconstructor
+ * @sa vtkPenumbraRadianceEvaluator vtkPenumbraRadianceReconstructor
  */
-#ifndef vtkProgressiveShooter_h
-#define vtkProgressiveShooter_h
+#ifndef vtkPenumbraProgressiveShooter_h
+#define vtkPenumbraProgressiveShooter_h
 
 #include "vtkPenumbraFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPenumbraAlgorithm.h"
 
-class VTKPENUMBRAFILTERS_EXPORT vtkProgressiveShooter : public vtkPolyDataAlgorithm
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraProgressiveShooter : public vtkPenumbraAlgorithm
 {
 public:
-  static vtkProgressiveShooter* New();
-  vtkTypeMacro(vtkProgressiveShooter, vtkPolyDataAlgorithm);
+  static vtkPenumbraProgressiveShooter* New();
+  vtkTypeMacro(vtkPenumbraProgressiveShooter, vtkPenumbraAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -173,11 +173,11 @@ public:
   void SetSceneData(vtkDataObject* scene) { this->SetInputData(1, scene); }
 
 protected:
-  vtkProgressiveShooter();
-  ~vtkProgressiveShooter() override = default;
+  vtkPenumbraProgressiveShooter();
+  ~vtkPenumbraProgressiveShooter() override = default;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double UnshotFraction = 1e-3;
   int MaximumShots = 10000;
@@ -191,8 +191,8 @@ protected:
   vtkIdType MaximumIndirectSamples = 100000;
 
 private:
-  vtkProgressiveShooter(const vtkProgressiveShooter&) = delete;
-  void operator=(const vtkProgressiveShooter&) = delete;
+  vtkPenumbraProgressiveShooter(const vtkPenumbraProgressiveShooter&) = delete;
+  void operator=(const vtkPenumbraProgressiveShooter&) = delete;
 };
 
 #endif

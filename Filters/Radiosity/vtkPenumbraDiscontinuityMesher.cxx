@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "vtkDiscontinuityMesher.h"
+#include "vtkPenumbraDiscontinuityMesher.h"
 
 #include "vtkPenumbraSceneConversion.h"
 
@@ -25,15 +25,15 @@
 #include <memory>
 #include <mutex>
 
-vtkStandardNewMacro(vtkDiscontinuityMesher);
+vtkStandardNewMacro(vtkPenumbraDiscontinuityMesher);
 
-void vtkDiscontinuityMesher::AddShooterId(vtkIdType id)
+void vtkPenumbraDiscontinuityMesher::AddShooterId(vtkIdType id)
 {
   this->ShooterIds.push_back(id);
   this->Modified();
 }
 
-void vtkDiscontinuityMesher::RemoveAllShooterIds()
+void vtkPenumbraDiscontinuityMesher::RemoveAllShooterIds()
 {
   if (!this->ShooterIds.empty())
   {
@@ -42,12 +42,12 @@ void vtkDiscontinuityMesher::RemoveAllShooterIds()
   }
 }
 
-vtkIdType vtkDiscontinuityMesher::GetNumberOfShooterIds() const
+vtkIdType vtkPenumbraDiscontinuityMesher::GetNumberOfShooterIds() const
 {
   return static_cast<vtkIdType>(this->ShooterIds.size());
 }
 
-vtkIdType vtkDiscontinuityMesher::GetShooterId(vtkIdType index) const
+vtkIdType vtkPenumbraDiscontinuityMesher::GetShooterId(vtkIdType index) const
 {
   return index >= 0 && index < this->GetNumberOfShooterIds() ? this->ShooterIds[index] : -1;
 }
@@ -63,7 +63,7 @@ void AddCount(vtkFieldData* fieldData, const char* name, double value)
 }
 }
 
-int vtkDiscontinuityMesher::RequestData(
+int vtkPenumbraDiscontinuityMesher::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
@@ -210,7 +210,7 @@ int vtkDiscontinuityMesher::RequestData(
   return 1;
 }
 
-void vtkDiscontinuityMesher::PrintSelf(ostream& os, vtkIndent indent)
+void vtkPenumbraDiscontinuityMesher::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ShooterIds:";

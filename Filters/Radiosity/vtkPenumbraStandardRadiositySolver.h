@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /**
- * @class   vtkStandardRadiositySolver
+ * @class   vtkPenumbraStandardRadiositySolver
  * @brief   Standard radiosity, the baseline the paper beat: uniform mesh,
  * progressive refinement, ray-cast form factors, adaptive subdivision,
  * Gouraud display.
@@ -19,7 +19,7 @@
  * UnshotFraction of the emitted power, or at MaximumShots. The core is
  * penumbra::StandardRadiosity (penumbraStandardRadiosity.h).
  *
- * Output (design contract, as vtkRadianceReconstructor's): lines first (the
+ * Output (design contract, as vtkPenumbraRadianceReconstructor's): lines first (the
  * surfaces' outline edges, `DiscontinuityOrder` -1, `SourceId` -1), then
  * triangles (the elements, T-vertices included, so linear interpolation
  * has no cracks) with cell data `SurfaceId`; point data `Radiance`
@@ -31,19 +31,19 @@
  * `UnshotPower` (RGB, watts; emitted = absorbed + escaped + unshot).
  * Progress is reported per shot; abort is honoured between shots.
  *
- * @sa vtkProgressiveShooter vtkRadianceReconstructor
+ * @sa vtkPenumbraProgressiveShooter vtkPenumbraRadianceReconstructor
  */
-#ifndef vtkStandardRadiositySolver_h
-#define vtkStandardRadiositySolver_h
+#ifndef vtkPenumbraStandardRadiositySolver_h
+#define vtkPenumbraStandardRadiositySolver_h
 
 #include "vtkPenumbraFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPenumbraAlgorithm.h"
 
-class VTKPENUMBRAFILTERS_EXPORT vtkStandardRadiositySolver : public vtkPolyDataAlgorithm
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraStandardRadiositySolver : public vtkPenumbraAlgorithm
 {
 public:
-  static vtkStandardRadiositySolver* New();
-  vtkTypeMacro(vtkStandardRadiositySolver, vtkPolyDataAlgorithm);
+  static vtkPenumbraStandardRadiositySolver* New();
+  vtkTypeMacro(vtkPenumbraStandardRadiositySolver, vtkPenumbraAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// How a vertex-to-patch form factor is computed.
@@ -135,10 +135,10 @@ public:
   ///@}
 
 protected:
-  vtkStandardRadiositySolver() = default;
-  ~vtkStandardRadiositySolver() override = default;
+  vtkPenumbraStandardRadiositySolver() = default;
+  ~vtkPenumbraStandardRadiositySolver() override = default;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double PatchSize = 0.5;
   double ElementSize = 0.05;
@@ -150,8 +150,8 @@ protected:
   int MaximumShots = 10000;
 
 private:
-  vtkStandardRadiositySolver(const vtkStandardRadiositySolver&) = delete;
-  void operator=(const vtkStandardRadiositySolver&) = delete;
+  vtkPenumbraStandardRadiositySolver(const vtkPenumbraStandardRadiositySolver&) = delete;
+  void operator=(const vtkPenumbraStandardRadiositySolver&) = delete;
 };
 
 #endif

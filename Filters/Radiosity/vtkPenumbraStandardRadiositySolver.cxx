@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "vtkStandardRadiositySolver.h"
+#include "vtkPenumbraStandardRadiositySolver.h"
 
 #include "vtkPenumbraSceneConversion.h"
 
@@ -19,9 +19,9 @@
 #include <memory>
 #include <stdexcept>
 
-vtkStandardNewMacro(vtkStandardRadiositySolver);
+vtkStandardNewMacro(vtkPenumbraStandardRadiositySolver);
 
-int vtkStandardRadiositySolver::RequestData(
+int vtkPenumbraStandardRadiositySolver::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* sceneData = vtkPolyData::GetData(inputVector[0]);
@@ -120,7 +120,7 @@ int vtkStandardRadiositySolver::RequestData(
   return 1;
 }
 
-void vtkStandardRadiositySolver::PrintSelf(ostream& os, vtkIndent indent)
+void vtkPenumbraStandardRadiositySolver::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "PatchSize: " << this->PatchSize << "\n";

@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /**
- * @class   vtkRadianceReconstructor
+ * @class   vtkPenumbraRadianceReconstructor
  * @brief   Piecewise-smooth reconstruction of radiance from samples (paper §6).
  *
  * Input: a sample mesh with point data `Radiance` (3 components): triangles
  * with cell data `SurfaceId`, and optionally lines with cell data
  * `DiscontinuityOrder` (and `SourceId`) marking the discontinuities, as
- * produced by vtkDiscontinuityMesher followed by vtkRadianceEvaluator.
+ * produced by vtkPenumbraDiscontinuityMesher followed by vtkPenumbraRadianceEvaluator.
  * Points along order-0 lines must be duplicated (one copy per side).
  * The optional cell array `SamplingResidual` (3 components, from the
- * adaptive sampling of vtkRadianceEvaluator: the largest |true -
+ * adaptive sampling of vtkPenumbraRadianceEvaluator: the largest |true -
  * interpolated| radiance seen at each triangle's last probes; negative
  * where a triangle was not probed) feeds the error estimate.
  *
@@ -31,19 +31,19 @@
  * carried through as polylines of output points with their
  * `DiscontinuityOrder` and `SourceId`.
  *
- * @sa vtkRadianceEvaluator vtkDiscontinuityMesher
+ * @sa vtkPenumbraRadianceEvaluator vtkPenumbraDiscontinuityMesher
  */
-#ifndef vtkRadianceReconstructor_h
-#define vtkRadianceReconstructor_h
+#ifndef vtkPenumbraRadianceReconstructor_h
+#define vtkPenumbraRadianceReconstructor_h
 
 #include "vtkPenumbraFiltersModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkPenumbraAlgorithm.h"
 
-class VTKPENUMBRAFILTERS_EXPORT vtkRadianceReconstructor : public vtkPolyDataAlgorithm
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraRadianceReconstructor : public vtkPenumbraAlgorithm
 {
 public:
-  static vtkRadianceReconstructor* New();
-  vtkTypeMacro(vtkRadianceReconstructor, vtkPolyDataAlgorithm);
+  static vtkPenumbraRadianceReconstructor* New();
+  vtkTypeMacro(vtkPenumbraRadianceReconstructor, vtkPenumbraAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// Reconstruction modes.
@@ -103,10 +103,10 @@ public:
   ///@}
 
 protected:
-  vtkRadianceReconstructor() = default;
-  ~vtkRadianceReconstructor() override = default;
+  vtkPenumbraRadianceReconstructor() = default;
+  ~vtkPenumbraRadianceReconstructor() override = default;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int Mode = CLOUGH_TOCHER;
   int SubdivisionLevel = 4;
@@ -115,8 +115,8 @@ protected:
   bool ComputeErrorEstimate = true;
 
 private:
-  vtkRadianceReconstructor(const vtkRadianceReconstructor&) = delete;
-  void operator=(const vtkRadianceReconstructor&) = delete;
+  vtkPenumbraRadianceReconstructor(const vtkPenumbraRadianceReconstructor&) = delete;
+  void operator=(const vtkPenumbraRadianceReconstructor&) = delete;
 };
 
 #endif

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "vtkRadianceEvaluator.h"
+#include "vtkPenumbraRadianceEvaluator.h"
 
 #include "vtkPenumbraSceneConversion.h"
 
@@ -37,7 +37,7 @@
 #include <thread>
 #include <unordered_map>
 
-vtkStandardNewMacro(vtkRadianceEvaluator);
+vtkStandardNewMacro(vtkPenumbraRadianceEvaluator);
 
 namespace
 {
@@ -91,12 +91,12 @@ std::vector<int> SampleSurfaces(vtkPolyData* samples, int numberOfSurfaces)
 }
 }
 
-vtkRadianceEvaluator::vtkRadianceEvaluator()
+vtkPenumbraRadianceEvaluator::vtkPenumbraRadianceEvaluator()
 {
   this->SetNumberOfInputPorts(3);
 }
 
-int vtkRadianceEvaluator::FillInputPortInformation(int port, vtkInformation* info)
+int vtkPenumbraRadianceEvaluator::FillInputPortInformation(int port, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
   if (port == 2)
@@ -174,13 +174,13 @@ std::map<int, penumbra::ShooterRadiance> ShooterFunctions(
 }
 }
 
-void vtkRadianceEvaluator::AddShooterId(vtkIdType id)
+void vtkPenumbraRadianceEvaluator::AddShooterId(vtkIdType id)
 {
   this->ShooterIds.push_back(id);
   this->Modified();
 }
 
-void vtkRadianceEvaluator::RemoveAllShooterIds()
+void vtkPenumbraRadianceEvaluator::RemoveAllShooterIds()
 {
   if (!this->ShooterIds.empty())
   {
@@ -189,12 +189,12 @@ void vtkRadianceEvaluator::RemoveAllShooterIds()
   }
 }
 
-vtkIdType vtkRadianceEvaluator::GetNumberOfShooterIds() const
+vtkIdType vtkPenumbraRadianceEvaluator::GetNumberOfShooterIds() const
 {
   return static_cast<vtkIdType>(this->ShooterIds.size());
 }
 
-vtkIdType vtkRadianceEvaluator::GetShooterId(vtkIdType index) const
+vtkIdType vtkPenumbraRadianceEvaluator::GetShooterId(vtkIdType index) const
 {
   return index >= 0 && index < this->GetNumberOfShooterIds() ? this->ShooterIds[index] : -1;
 }
@@ -203,7 +203,7 @@ namespace
 {
 /// The adaptive-sampling path of RequestData (see the class description);
 /// false after an error.
-bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyData* output,
+bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples, vtkPolyData* output,
   double sceneDiagonal,
   const std::function<penumbra::RGB(int, const penumbra::Vec3&)>& evaluatePoint)
 {
@@ -272,7 +272,7 @@ bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyD
   {
     output->Initialize();
     vtkErrorWithObjectMacro(self, << "cell " << badCell << " is not a triangle; adaptive sampling "
-                  << "needs a triangle mesh (vtkDiscontinuityMesher's output)");
+                  << "needs a triangle mesh (vtkPenumbraDiscontinuityMesher's output)");
     return false;
   }
   for (std::size_t k = 0; k < lines.size(); ++k)
@@ -487,7 +487,7 @@ bool SampleAdaptively(vtkRadianceEvaluator* self, vtkPolyData* samples, vtkPolyD
 
 }
 
-int vtkRadianceEvaluator::RequestData(
+int vtkPenumbraRadianceEvaluator::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* samples = vtkPolyData::GetData(inputVector[0]);
@@ -659,7 +659,7 @@ int vtkRadianceEvaluator::RequestData(
   return 1;
 }
 
-void vtkRadianceEvaluator::PrintSelf(ostream& os, vtkIndent indent)
+void vtkPenumbraRadianceEvaluator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Method: " << (this->Method == EXACT ? "EXACT" : "RAY_CAST") << "\n";

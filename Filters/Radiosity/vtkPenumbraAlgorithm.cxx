@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkPenumbraAlgorithm.h"
+
+
+#include "vtkDataObject.h"
+#include "vtkInformationVector.h"
+
+#include <exception>
+#include <new>
+#include <sstream>
+
+int vtkPenumbraAlgorithm::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  std::string error;
+  try
+  {
+    return this->Execute(request, inputVector, outputVector);
+  }
+  catch (const std::bad_alloc&)
+  {
+    error = "out of memory";
+  }
+  catch (const std::exception& e)
+  {
+    error = e.what();
+  }
+  catch (...)
+  {
+    error = "unknown exception";
+  }
+  for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
+  {
+    if (vtkDataObject* output = vtkDataObject::GetData(outputVector, port))
+    {
+      output->Initialize();
+    }
+  }
+  vtkErrorMacro(<< (error.empty() ? std::string("unknown error") : error));
+  return 0;
+}
+
+std::string vtkPenumbraAlgorithm::ErrorText(const std::string& message)
+{
+  static const std::string header = "ERROR: In ";
+  static const std::string executiveFailure = "returned failure for request";
+  std::size_t start = message.find(header);
+  if (start == std::string::npos)
+  {
+    start = 0;
+  }
+  while (start < message.size())
+  {
+    const std::size_t next = message.find(header, start + 1);
+    std::string block = message.substr(start, next == std::string::npos ? next : next - start);
+    if (block.compare(0, header.size(), header) == 0)
+    {
+      // Drop "ERROR: In file, line N" and the "vtkClass (0x...): " prefix.
+      const std::size_t lineEnd = block.find('\n');
+      block = lineEnd == std::string::npos ? std::string() : block.substr(lineEnd + 1);
+      const std::size_t prefix = block.find("): ");
+      const std::size_t firstLineEnd = block.find('\n');
+      if (prefix != std::string::npos && prefix < firstLineEnd)
+      {
+        block = block.substr(prefix + 3);
+      }
+    }
+    std::istringstream words(block);
+    std::string text, word;
+    while (words >> word)
+    {
+      text += (text.empty() ? "" : " ") + word;
+    }
+    if (!text.empty() && text.find(executiveFailure) == std::string::npos &&
+      text.compare(0, 8, "WARNING:") != 0)
+    {
+      return text;
+    }
+    if (next == std::string::npos)
+    {
+      break;
+    }
+    start = next;
+  }
+  return std::string();
+}
+
+void vtkPenumbraAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+}

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkPenumbraAlgorithm
+ * @brief   Base of Penumbra's filters: errors never cross RequestData.
+ *
+ * Every Penumbra filter derives from this class and implements Execute()
+ * instead of RequestData(). RequestData() runs Execute() and turns any
+ * exception it lets through, thrown on the calling thread or inside a
+ * vtkSMPTools worker run through the core's ParallelFor, into vtkErrorMacro
+ * and a return value of 0 with an empty output: bad input (the core's
+ * InputError, whose text names the offending cell or setting), failures of
+ * Embree or CGAL (std::runtime_error), std::bad_alloc ("out of memory") and
+ * anything else ("unknown exception").
+ *
+ * ErrorText() is the one parser of VTK's error format in Penumbra: the
+ * composed solver uses it to relay a stage's message and the Python package
+ * to turn errors into exceptions.
+ *
+ * @sa vtkPenumbraSolver
+ */
+#ifndef vtkPenumbraAlgorithm_h
+#define vtkPenumbraAlgorithm_h
+
+#include "vtkPenumbraFiltersModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <string> // for std::string
+
+class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraAlgorithm : public vtkPolyDataAlgorithm
+{
+public:
+  vtkTypeMacro(vtkPenumbraAlgorithm, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * The text of the first error in `message`, without VTK's header: given
+   * one message or the whole output of a vtkStringOutputWindow ("ERROR: In
+   * file, line N\nvtkClass (0x...): text" blocks), returns the first
+   * error's text with runs of white space made single, skipping the
+   * executive's "returned failure for request" that follows a filter's own
+   * error; a message without the header is returned as it is. Empty when
+   * there is none.
+   */
+  static std::string ErrorText(const std::string& message);
+
+protected:
+  vtkPenumbraAlgorithm() = default;
+  ~vtkPenumbraAlgorithm() override = default;
+
+  /// Runs Execute(); see the class documentation.
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) final;
+
+  /// The filter's work, with RequestData's arguments and return value.
+  virtual int Execute(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) = 0;
+
+private:
+  vtkPenumbraAlgorithm(const vtkPenumbraAlgorithm&) = delete;
+  void operator=(const vtkPenumbraAlgorithm&) = delete;
+};
+
+#endif
