@@ -19,7 +19,7 @@ esac
 packages=(
   cmake ninja-build g++ pkg-config
   libvtk9-dev python3-vtk9 vtk9
-  libcgal-dev libgmp-dev libmpfr-dev libembree-dev libeigen3-dev libtbb-dev
+  libcgal-dev libgmp-dev libmpfr-dev libembree-dev libtbb-dev
   xvfb xauth
   python3-numpy python3-matplotlib python3-pytest python3-hypothesis
 )

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Benchmark of vtkPenumbraDiscontinuityMesher on one thread (issue 4).
+"""Benchmark of vtkPenumbraDiscontinuityMesher on one thread.
 
 For the built-in Cornell box, seven occluders and venetian blind, and for
 generated rooms full of boxes (penumbra.generators.box_room) of 1,000 and

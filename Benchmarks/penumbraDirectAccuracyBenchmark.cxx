@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Accuracy of adaptive sampling + reconstruction on direct light (issue 5's
-// targets): for the "seven" and "blind" floors and the Cornell floor, the
+// Accuracy of adaptive sampling + reconstruction on direct light, against the
+// direct-light accuracy targets: for the "seven" and "blind" floors and the Cornell floor, the
 // floor's discontinuity mesh is sampled adaptively with the exact evaluator
 // (the light as the only shooter), reconstructed, and compared with exact
 // values at 20000 independent random points of the floor. Errors are

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Scale benchmark (issue 8): the default solve of generated rooms full of
+"""Scale benchmark: the default solve of generated rooms full of
 boxes (penumbra.generators.box_room) of N polygons.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
@@ -16,7 +16,7 @@ and the least-squares growth exponents of time and memory against the
 number of polygons, and draws a log-log chart into --out. With --runs R
 each size is solved R times (one process each) and the table gives the
 medians, with the range of the wall times
-(default build/benchmarks). Targets (issue 8): 20,000 polygons in under
+(default build/benchmarks). Targets: 20,000 polygons in under
 5 minutes and 4 GB on 2 cores. --indirect-samples sets the solver's
 MaximumIndirectSamples; --no-reuse turns its ReuseTransport off (weak
 shots one orientation at a time, each tracing its rays).

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Speed against accuracy: the direct-light scenes and the Cornell box (issue 7).
+"""Speed against accuracy: the direct-light scenes and the Cornell box.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Benchmarks/speed_accuracy.py \\
         [--scenes strip,occluder,seven,blind,cornell] [--methods LABELS|all] [--points 4000]
@@ -75,7 +75,7 @@ Method families (one curve each on the charts):
   not importing Mitsuba (as the other methods' times do not cover
   importing VTK).
 
-After the runs it prints the claims of issue 7 computed from the measured
+After the runs it prints the speed-accuracy goals checked against the measured
 rows (claims): on each direct-light scene, at each exact + cubic run's
 time, the RMS of the standard and path-tracer curves (their lower
 envelopes, interpolated log-log, only where their runs cover that time)
@@ -92,8 +92,10 @@ redoes these from a CSV without running anything.
 """
 import argparse
 import csv
+import datetime
 import json
 import os
+import platform
 import subprocess
 import sys
 import tempfile
@@ -547,8 +549,22 @@ def time_to(curve, target):
     return None
 
 
+def hardware_summary():
+    """The processor, its core count, the memory and the system, for dated tables."""
+    model = "unknown processor"
+    try:
+        with open("/proc/cpuinfo") as stream:
+            model = next(line.split(":", 1)[1].strip() for line in stream
+                         if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    memory = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
+    return "%s, %d cores, %.0f GB, %s" % (model, os.cpu_count() or 0, memory,
+                                          platform.platform(terse=True))
+
+
 def claims(rows):
-    """Issue 7's goals checked on the measured rows; returns Markdown lines.
+    """The speed-accuracy goals checked on the measured rows; returns Markdown lines.
     Direct-light scenes: at each exact + cubic run's time, the standard and
     path-tracer curves' RMS (interpolated, only where they cover that time)
     and their ratio to the run's; the smallest ratio over the overlap (goal:
@@ -636,15 +652,18 @@ def write_outputs(rows, out):
         writer.writeheader()
         writer.writerows(rows)
     lines = claims(rows)
-    print("\n".join(["", "Claims (issue 7):", ""] + lines))
+    print("\n".join(["", "Goals:", ""] + lines))
     with open(os.path.join(out, "speed_accuracy.md"), "w") as stream:
+        stream.write("# Speed against accuracy\n\nMeasured %s on %s by `Benchmarks/"
+                     "speed_accuracy.py`.\n\n" % (datetime.date.today().isoformat(),
+                                                    hardware_summary()))
         stream.write("| scene | method | time (s) | peak memory (MB) | samples | RMS | p99 | max |\n")
         stream.write("| --- | --- | --- | --- | --- | --- | --- | --- |\n")
         for r in rows:
             stream.write("| %s | %s | %.2f | %.0f | %d | %.3g%% | %.3g%% | %.3g%% |\n"
                          % (r["scene"], r["method"], r["seconds"], r["memory_mb"], r["samples"],
                             100 * r["rms"], 100 * r["p99"], 100 * r["max"]))
-        stream.write("\n## Claims\n\n%s\n" % "\n".join(lines))
+        stream.write("\n## Goals\n\n%s\n" % "\n".join(lines))
 
 
 def main():

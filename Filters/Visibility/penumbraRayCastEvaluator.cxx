@@ -589,7 +589,7 @@ void RayCastEvaluator::SetTolerance(double tolerance)
     throw InputError("RayCastEvaluator: Tolerance " + std::to_string(tolerance) +
       " is outside the valid range (0, 1]");
   }
-  this->Tolerance = tolerance;
+  this->Settings.Tolerance = tolerance;
 }
 
 void RayCastEvaluator::SetAbsoluteTolerance(double tolerance)
@@ -599,7 +599,7 @@ void RayCastEvaluator::SetAbsoluteTolerance(double tolerance)
     throw InputError("RayCastEvaluator: AbsoluteTolerance " + std::to_string(tolerance) +
       " is outside the valid range [0, inf)");
   }
-  this->AbsoluteTolerance = tolerance;
+  this->Settings.AbsoluteTolerance = tolerance;
 }
 
 void RayCastEvaluator::SetMinDepth(int depth)
@@ -609,7 +609,7 @@ void RayCastEvaluator::SetMinDepth(int depth)
     throw InputError(
       "RayCastEvaluator: MinDepth " + std::to_string(depth) + " is outside the valid range [0, 16]");
   }
-  this->MinDepth = depth;
+  this->Settings.MinDepth = depth;
 }
 
 void RayCastEvaluator::SetMaxDepth(int depth)
@@ -619,7 +619,7 @@ void RayCastEvaluator::SetMaxDepth(int depth)
     throw InputError(
       "RayCastEvaluator: MaxDepth " + std::to_string(depth) + " is outside the valid range [0, 16]");
   }
-  this->MaxDepth = depth;
+  this->Settings.MaxDepth = depth;
 }
 
 void RayCastEvaluator::SetRelativeRayOffset(double offset)
@@ -640,10 +640,11 @@ void RayCastEvaluator::CheckQuery(int shooterId) const
       " is not a surface of the scene (it has " + std::to_string(this->Normals.size()) +
       " surfaces)");
   }
-  if (this->MinDepth > this->MaxDepth)
+  if (this->Settings.MinDepth > this->Settings.MaxDepth)
   {
-    throw InputError("RayCastEvaluator: MinDepth " + std::to_string(this->MinDepth) +
-      " exceeds MaxDepth " + std::to_string(this->MaxDepth));
+    throw InputError("RayCastEvaluator: MinDepth " +
+      std::to_string(this->Settings.MinDepth) + " exceeds MaxDepth " +
+      std::to_string(this->Settings.MaxDepth));
   }
 }
 
@@ -689,8 +690,8 @@ RGB RayCastEvaluator::Irradiance(const Vec3& x, const Vec3& n, int receiverId, i
   q.Receiver = receiverId;
   q.Shooter = shooterId;
   q.Radiance = &radiance;
-  q.MinDepth = this->MinDepth;
-  q.MaxDepth = this->MaxDepth;
+  q.MinDepth = this->Settings.MinDepth;
+  q.MaxDepth = this->Settings.MaxDepth;
   q.Statistics = statistics;
   // The scale of the threshold: the unoccluded one-sample estimate (no rays).
   double unoccluded = 0.0;
@@ -699,7 +700,8 @@ RGB RayCastEvaluator::Irradiance(const Vec3& x, const Vec3& n, int receiverId, i
     const Vec3 centre = (piece.P[0] + piece.P[1] + piece.P[2]) / 3.0;
     unoccluded += Scalar(RadianceAt(q, centre)) * Weight(q, centre, piece.Area);
   }
-  q.Threshold = std::max(this->Tolerance * unoccluded, this->AbsoluteTolerance);
+  q.Threshold =
+    std::max(this->Settings.Tolerance * unoccluded, this->Settings.AbsoluteTolerance);
   RGB sum;
   for (const InitialPiece& initial : pieces)
   {

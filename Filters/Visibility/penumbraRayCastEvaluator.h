@@ -170,6 +170,22 @@ struct RayCastStatistics
   int DeepestLevel = 0;      ///< deepest subdivision level reached
 };
 
+/// Settings of RayCastEvaluator: the member initialisers are the defaults.
+struct RayCastSettings
+{
+  /// Subdivision tolerance, relative to the unoccluded estimate of the
+  /// shooter seen from x (see the file comment). [1e-3], in (0, 1]
+  double Tolerance = 1e-3;
+  /// Absolute floor of the subdivision threshold, in irradiance units
+  /// (W m^-2 for radiance in W sr^-1 m^-2). [0], in [0, inf)
+  double AbsoluteTolerance = 0.0;
+  /// Level down to which every piece is split whatever the estimates say.
+  /// [1], in [0, 16]
+  int MinDepth = 1;
+  /// Deepest subdivision level. [8], in [0, 16]
+  int MaxDepth = 8;
+};
+
 /**
  * Ray-cast evaluator of contributed irradiance (paper Eq. 6). Construct once
  * per scene; configure (the setters are not thread-safe), then query from any
@@ -187,35 +203,35 @@ public:
 
   /**
    * Subdivision tolerance, relative to the unoccluded estimate of the
-   * shooter seen from x (see the file comment). Default 1e-3, valid range
-   * (0, 1]; throws InputError outside.
+   * shooter seen from x (see the file comment). Default
+   * RayCastSettings::Tolerance, valid range (0, 1]; throws InputError outside.
    */
   void SetTolerance(double tolerance);
-  double GetTolerance() const { return this->Tolerance; }
+  double GetTolerance() const { return this->Settings.Tolerance; }
 
   /**
    * Absolute floor of the subdivision threshold, in irradiance units
-   * (W m^-2 for radiance in W sr^-1 m^-2). Default 0, valid range [0, inf).
+   * (W m^-2 for radiance in W sr^-1 m^-2). Valid range [0, inf).
    */
   void SetAbsoluteTolerance(double tolerance);
-  double GetAbsoluteTolerance() const { return this->AbsoluteTolerance; }
+  double GetAbsoluteTolerance() const { return this->Settings.AbsoluteTolerance; }
 
   /**
    * Level down to which every piece is split whatever the estimates say (a
    * guard against small occluders missed by all samples; level k has 4^k
-   * pieces per initial triangle). Default 1, valid range [0, 16]; must not
+   * pieces per initial triangle). Valid range [0, 16]; must not
    * exceed MaxDepth at query time. 0 and 1 behave alike: the error estimate
    * of an initial piece needs its level-1 children anyway.
    */
   void SetMinDepth(int depth);
-  int GetMinDepth() const { return this->MinDepth; }
+  int GetMinDepth() const { return this->Settings.MinDepth; }
 
   /**
    * Deepest subdivision level (each level divides a piece's area by 4).
-   * Default 8, valid range [0, 16]; 0 means one sample per initial triangle.
+   * Valid range [0, 16]; 0 means one sample per initial triangle.
    */
   void SetMaxDepth(int depth);
-  int GetMaxDepth() const { return this->MaxDepth; }
+  int GetMaxDepth() const { return this->Settings.MaxDepth; }
 
   /// Forwarded to RayCaster::SetRelativeOffset (default 1e-5, range [0, 0.01]).
   void SetRelativeRayOffset(double offset);
@@ -254,10 +270,7 @@ private:
   std::vector<Vec3> Normals;       // per surface, unit front normal (zero if degenerate)
   std::vector<RGB> Reflectance;
   std::vector<RGB> Emission;
-  double Tolerance = 1e-3;
-  double AbsoluteTolerance = 0.0;
-  int MinDepth = 1;
-  int MaxDepth = 8;
+  RayCastSettings Settings;
 };
 
 } // namespace penumbra

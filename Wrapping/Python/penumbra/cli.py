@@ -71,6 +71,21 @@ def _command_scenes(_args):
     return 0
 
 
+def _command_settings(args):
+    from penumbra import settings
+
+    if args.markdown:
+        print(settings.markdown())
+        return 0
+    for class_name in settings.FILTERS:
+        rows = settings.filter_settings(class_name)
+        if rows:
+            print(class_name)
+            for s in rows:
+                print("  %-26s %-12s %s" % (s.name, s.formatted_default(), s.formatted_range()))
+    return 0
+
+
 def _command_solve(args):
     import penumbra
     from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
@@ -132,11 +147,23 @@ def _positive_int(text):
     return value
 
 
-def _element_size(text):
-    value = float(text)
-    if not 0.001 <= value <= 1.0:
-        raise argparse.ArgumentTypeError("must be in [0.001, 1], got %s" % text)
-    return value
+def _setting_range(filter_class, name):
+    """(default, minimum, maximum) of a filter's setting, read from the filter."""
+    instance = filter_class()
+    return (getattr(instance, "Get" + name)(), getattr(instance, "Get%sMinValue" % name)(),
+            getattr(instance, "Get%sMaxValue" % name)())
+
+
+def _in_range(filter_class, name):
+    """An argparse type accepting the values the filter's setting accepts."""
+    _, low, high = _setting_range(filter_class, name)
+
+    def convert(text):
+        value = float(text)
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError("must be in [%g, %g], got %s" % (low, high, text))
+        return value
+    return convert
 
 
 def build_parser():
@@ -162,19 +189,31 @@ def build_parser():
                             "pipeline; 'standard': the baseline it beat (uniform mesh, "
                             "progressive refinement, ray-cast form factors, adaptive "
                             "subdivision, Gouraud display)")
-    solve.add_argument("--element-size", type=_element_size, metavar="S",
+    import penumbra
+    standard = penumbra.vtkPenumbraStandardRadiositySolver
+    element_size = _setting_range(standard, "ElementSize")
+    unshot = _setting_range(penumbra.vtkPenumbraSolver, "UnshotFraction")
+    solve.add_argument("--element-size", type=_in_range(standard, "ElementSize"), metavar="S",
                        help="--method standard: longest initial element edge relative to the "
-                            "scene's size, in [0.001, 1] (default 0.05)")
+                            "scene's size, in [%g, %g] (default %g)"
+                            % (element_size[1], element_size[2], element_size[0]))
     solve.add_argument("--direct-only", action="store_true",
                        help="direct light only (no progressive shooting)")
-    solve.add_argument("--unshot", type=float, default=None, metavar="F",
+    solve.add_argument("--unshot", type=_in_range(penumbra.vtkPenumbraSolver, "UnshotFraction"),
+                       default=None, metavar="F",
                        help="stop shooting when the unshot power is below F times the "
-                            "emitted power (default: the solver's, 1e-3)")
+                            "emitted power, in [%g, %g] (default %g)"
+                            % (unshot[1], unshot[2], unshot[0]))
     solve.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     solve.set_defaults(handler=_command_solve)
 
     scenes = sub.add_parser("scenes", help="list the built-in scenes")
     scenes.set_defaults(handler=_command_scenes)
+
+    settings = sub.add_parser("settings", help="every filter setting with its default and range")
+    settings.add_argument("--markdown", action="store_true",
+                          help="with the descriptions, as Documentation/settings.md")
+    settings.set_defaults(handler=_command_settings)
 
     render = sub.add_parser("render", help="render a .vtp scene or result to PNG")
     render.add_argument("input", metavar="IN.vtp")
