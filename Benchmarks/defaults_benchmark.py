@@ -27,6 +27,8 @@ import time
 
 import numpy as np
 
+from penumbra.generators import scene_from_polygons
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 POINTS = 4000
 REFERENCE = {"ExactPowerFraction": 0.0, "UnshotFraction": 1e-5, "SamplingTolerance": 5e-4,
@@ -41,9 +43,6 @@ def baffle_scene():
     """A floor lit only through a half-lit panel (metres): the light, above a black
     baffle, shines on the panel's upper part; the baffle touches the panel, hides the
     light from the floor and casts the panel's shadow onto the floor."""
-    from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints
-    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
-
     black, grey, white = (0.0, 0.0, 0.0), (0.5, 0.5, 0.5), (0.9, 0.9, 0.9)
     polygons = [
         quad([(0, 0, 0), (0, 0, 4), (4, 0, 4), (4, 0, 0)], grey),                 # floor, +y
@@ -52,26 +51,7 @@ def baffle_scene():
              black, (50.0, 50.0, 50.0)),                                           # light, -x
         quad([(0, 1.5, 0.5), (0, 1.5, 3.5), (1.0, 1.5, 3.5), (1.0, 1.5, 0.5)], black),  # baffle
     ]
-    data = vtkPolyData()
-    points = vtkPoints()
-    points.SetDataTypeToDouble()
-    cells = vtkCellArray()
-    arrays = {}
-    for name in ("Reflectance", "Emission"):
-        arrays[name] = vtkDoubleArray()
-        arrays[name].SetName(name)
-        arrays[name].SetNumberOfComponents(3)
-    for p in polygons:
-        cells.InsertNextCell(len(p["vertices"]))
-        for vertex in p["vertices"]:
-            cells.InsertCellPoint(points.InsertNextPoint(*vertex))
-        arrays["Reflectance"].InsertNextTuple3(*p["reflectance"])
-        arrays["Emission"].InsertNextTuple3(*p["emission"])
-    data.SetPoints(points)
-    data.SetPolys(cells)
-    for array in arrays.values():
-        data.GetCellData().AddArray(array)
-    return data
+    return scene_from_polygons(polygons)
 
 
 def load(name):

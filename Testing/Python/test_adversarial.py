@@ -36,10 +36,11 @@ import time
 import numpy as np
 import pytest
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 import penumbra
+from penumbra.generators import scene_from_polygons
 
 #: Largest |output - reference| at the random points, relative to the case's scale.
 MAX_ERROR_TOLERANCE = 0.02
@@ -105,26 +106,7 @@ def offset(polygons, shift):
 
 
 def to_polydata(polygons):
-    data = vtkPolyData()
-    points = vtkPoints()
-    points.SetDataTypeToDouble()
-    cells = vtkCellArray()
-    arrays = {}
-    for name in ("Reflectance", "Emission"):
-        arrays[name] = vtkDoubleArray()
-        arrays[name].SetName(name)
-        arrays[name].SetNumberOfComponents(3)
-    for p in polygons:
-        cells.InsertNextCell(len(p["vertices"]))
-        for vertex in p["vertices"]:
-            cells.InsertCellPoint(points.InsertNextPoint(*vertex))
-        arrays["Reflectance"].InsertNextTuple3(*p["reflectance"])
-        arrays["Emission"].InsertNextTuple3(*p["emission"])
-    data.SetPoints(points)
-    data.SetPolys(cells)
-    for array in arrays.values():
-        data.GetCellData().AddArray(array)
-    return data
+    return scene_from_polygons(polygons)
 
 
 # --------------------------------------------------------------------------

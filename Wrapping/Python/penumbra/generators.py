@@ -17,7 +17,7 @@ second.
 """
 import numpy as np
 
-__all__ = ["box_room", "ROOM_CELLS", "ROOM_HEIGHT", "LIGHT_EMISSION"]
+__all__ = ["box_room", "scene_from_polygons", "ROOM_CELLS", "ROOM_HEIGHT", "LIGHT_EMISSION"]
 
 #: Number of room surfaces (floor, ceiling, 4 walls): cells 0-5 of a box room.
 ROOM_CELLS = 6
@@ -92,6 +92,35 @@ def _polydata(points, quads, reflectance, emission, part):
     array = numpy_to_vtk(np.ascontiguousarray(part, dtype=np.int32), deep=True)
     array.SetName("PartId")
     data.GetCellData().AddArray(array)
+    return data
+
+
+def scene_from_polygons(polygons):
+    """A scene vtkPolyData from a list of polygons, each a dict with "vertices" (a
+    list of (x, y, z), counter-clockwise seen from the front), "reflectance" and
+    "emission" (RGB triples)."""
+    from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+
+    data = vtkPolyData()
+    points = vtkPoints()
+    points.SetDataTypeToDouble()
+    cells = vtkCellArray()
+    arrays = {}
+    for name in ("Reflectance", "Emission"):
+        arrays[name] = vtkDoubleArray()
+        arrays[name].SetName(name)
+        arrays[name].SetNumberOfComponents(3)
+    for p in polygons:
+        cells.InsertNextCell(len(p["vertices"]))
+        for vertex in p["vertices"]:
+            cells.InsertCellPoint(points.InsertNextPoint(*vertex))
+        arrays["Reflectance"].InsertNextTuple3(*p["reflectance"])
+        arrays["Emission"].InsertNextTuple3(*p["emission"])
+    data.SetPoints(points)
+    data.SetPolys(cells)
+    for array in arrays.values():
+        data.GetCellData().AddArray(array)
     return data
 
 
