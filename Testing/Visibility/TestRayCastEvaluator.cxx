@@ -70,7 +70,7 @@ Surface Square(double x0, double x1, double z0, double z1, double y, bool up, RG
   return s;
 }
 
-void TestUnoccludedConvergence()
+PENUMBRA_TEST(TestUnoccludedConvergence)
 {
   std::printf("unoccluded unit square at height 1, floor point (0.2, 0, 0.1)\n");
   Scene scene;
@@ -141,7 +141,7 @@ double OccludedReference(double px, double pz)
   return light - RectangleFormFactor(px, pz, sx0, sx1, sz0, sz1, 2.0);
 }
 
-void TestOccludedConvergence()
+PENUMBRA_TEST(TestOccludedConvergence)
 {
   std::printf("penumbra of the Fig. 3 scene, floor point (0.5, 0, 0.1)\n");
   const Scene scene = OccluderScene();
@@ -219,7 +219,7 @@ ShooterRadiance RampOnLight()
   return ShooterRadiance(points, triangles, values);
 }
 
-void TestNonUniformShooter()
+PENUMBRA_TEST(TestNonUniformShooter)
 {
   std::printf("non-uniform shooter (piecewise-linear ramp on the light)\n");
   const Scene scene = OccluderScene();
@@ -283,7 +283,7 @@ void TestNonUniformShooter()
   }
 }
 
-void TestHalfLitAgreement()
+PENUMBRA_TEST(TestHalfLitAgreement)
 {
   std::printf("half-lit shooter (Fig. 7/8): exact and ray cast agree\n");
   Scene scene;
@@ -326,7 +326,7 @@ void TestHalfLitAgreement()
     evaluator.Irradiance(Vec3(-0.5, 0, 0), Vec3(0, 1, 0), 0, 1, halfLit).R);
 }
 
-void TestDeterminism()
+PENUMBRA_TEST(TestDeterminism)
 {
   std::printf("determinism: 1 thread vs 2 threads\n");
   const Scene scene = OccluderScene();
@@ -372,7 +372,7 @@ void TestDeterminism()
   PENUMBRA_EXPECT(differences == 0);
 }
 
-void TestNoSelfOcclusion()
+PENUMBRA_TEST(TestNoSelfOcclusion)
 {
   std::printf("receiver and shooter do not occlude themselves\n");
   // An L-shaped pair: floor (receiver) and a wall (shooter) meeting at x = 0.
@@ -396,7 +396,7 @@ void TestNoSelfOcclusion()
   }
 }
 
-void TestWatertight()
+PENUMBRA_TEST(TestWatertight)
 {
   std::printf("rays through the diagonal of a quad occluder are blocked\n");
   Scene scene;
@@ -422,7 +422,7 @@ void TestWatertight()
   PENUMBRA_EXPECT(caster.IsOccluded(Vec3(0, 0, 0), Vec3(0, 1.01, 0)));
 }
 
-void TestSettings()
+PENUMBRA_TEST(TestSettings)
 {
   const Scene scene = OccluderScene();
   RayCastEvaluator evaluator(scene);
@@ -446,16 +446,3 @@ void TestSettings()
 }
 
 } // namespace
-
-int main()
-{
-  TestUnoccludedConvergence();
-  TestOccludedConvergence();
-  TestNonUniformShooter();
-  TestHalfLitAgreement();
-  TestDeterminism();
-  TestNoSelfOcclusion();
-  TestWatertight();
-  TestSettings();
-  return penumbra::testing::Result();
-}

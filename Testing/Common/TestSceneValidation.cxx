@@ -7,7 +7,7 @@
 
 using namespace penumbra;
 
-int main()
+PENUMBRA_TEST(TestGeometryAndTolerances)
 {
   // A 2 x 3 rectangle in the plane z = 5, counter-clockwise seen from +z.
   const std::vector<Vec3> rectangle = { { 1, 1, 5 }, { 3, 1, 5 }, { 3, 4, 5 }, { 1, 4, 5 } };
@@ -63,5 +63,4 @@ int main()
   // A triangle 1e-12 high over a unit base is a line, not a surface.
   sliver.Surfaces[0].Vertices = { { 0, 0, 0 }, { 1, 0, 0 }, { 0.5, 1e-12, 0 } };
   PENUMBRA_EXPECT_THROW(ValidateScene(sliver), InputError, "zero area");
-  return testing::Result();
 }

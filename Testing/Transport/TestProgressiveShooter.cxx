@@ -309,7 +309,7 @@ FurnaceResult RunFurnace(int n, double exactFraction, double unshotFraction)
   return result;
 }
 
-void TestFurnace()
+PENUMBRA_TEST(TestFurnace)
 {
   std::printf("== furnace: unit cube, L^e = 1, rho = 0.5, expected L = 2\n");
   std::printf("   exact method (ExactPowerFraction 0), UnshotFraction 1e-6:\n");
@@ -433,7 +433,7 @@ double Asymmetry(const ProgressiveShooter& shooter, const std::vector<int>& part
   return worst;
 }
 
-void TestMirrorSymmetry()
+PENUMBRA_TEST(TestMirrorSymmetry)
 {
   std::printf("== mirror symmetry: room with a centred light and two mirrored boxes\n");
   std::vector<int> partner;
@@ -555,7 +555,7 @@ bool BitIdentical(const std::vector<std::vector<RGB>>& a, const std::vector<std:
   return true;
 }
 
-void TestThreadIndependence()
+PENUMBRA_TEST(TestThreadIndependence)
 {
   std::printf("== thread independence: Cornell box, 3x3 meshes, 30 shots, both methods\n");
   const Scene scene = penumbra::MakeBuiltinScene("cornell");
@@ -604,7 +604,7 @@ void CompareIndirect(const CornellRun& run, const CornellRun& reference, double&
   worst /= mean;
 }
 
-void TestCornellExactVersusFast()
+PENUMBRA_TEST(TestCornellExactVersusFast)
 {
   const int n = 4;
   std::printf("== Cornell box (%dx%d meshes, 2 threads), UnshotFraction 1e-3: exact vs fast\n", n, n);
@@ -786,7 +786,7 @@ double UnitSquareFormFactor(double px, double py, double h)
 // Receiver clusters against every point on its own, on meshes fine enough
 // for clusters to matter: the same answer up to the fast method's own
 // error, with fewer rays, thread-independent, and the energy identity.
-void TestReceiverClusters()
+PENUMBRA_TEST(TestReceiverClusters)
 {
   const int n = 10;
   std::printf("== receiver clusters: Cornell box, %dx%d meshes, all shots fast\n", n, n);
@@ -830,7 +830,7 @@ void TestReceiverClusters()
 // Progress inside the first sweep through a recorded transport: reported
 // from the calling thread, increasing to 1; recording in parts with it
 // changes no result.
-void TestShotProgress()
+PENUMBRA_TEST(TestShotProgress)
 {
   std::printf("== progress inside the recording sweep: Cornell box, 6x6 meshes, all fast\n");
   const Scene scene = penumbra::MakeBuiltinScene("cornell");
@@ -873,7 +873,7 @@ void TestShotProgress()
 // every point: against the closed-form point-to-square form factor, by
 // both methods; and a concave receiver whose centroid lies outside it is
 // evaluated inside it.
-void TestUniformReceiver()
+PENUMBRA_TEST(TestUniformReceiver)
 {
   std::printf("== uniform receiver: unit square L^e = 1 below a parallel unit square at 1\n");
   const double rho = 0.8;
@@ -929,7 +929,7 @@ void TestUniformReceiver()
   }
 }
 
-void TestTwoPatches()
+PENUMBRA_TEST(TestTwoPatches)
 {
   std::printf("== two parallel unit squares at distance 1: E (L^e = 1, rho 0.5) and R (rho 0.8)\n");
   const double rhoE = 0.5, rhoR = 0.8;
@@ -1045,7 +1045,7 @@ void TestTwoPatches()
 
 // ---------------------------------------------------------------- errors and control
 
-void TestErrorsAndControl()
+PENUMBRA_TEST(TestErrorsAndControl)
 {
   std::printf("== bad settings and samples, callback and abort\n");
   const Scene scene = UnitCube(1.0, 0.5);
@@ -1116,17 +1116,3 @@ void TestErrorsAndControl()
 }
 
 } // namespace
-
-int main()
-{
-  TestErrorsAndControl();
-  TestTwoPatches();
-  TestUniformReceiver();
-  TestShotProgress();
-  TestFurnace();
-  TestMirrorSymmetry();
-  TestThreadIndependence();
-  TestCornellExactVersusFast();
-  TestReceiverClusters();
-  return penumbra::testing::Result();
-}

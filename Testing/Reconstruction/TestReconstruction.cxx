@@ -262,7 +262,7 @@ void EdgeBarycentric(const SampleMesh& m, int t, int k, int fromPoint, double s,
 }
 
 //------------------------------------------------------------------------------
-void TestQuadraticExact()
+PENUMBRA_TEST(TestQuadraticExact)
 {
   std::printf("-- quadratic and linear reproduction\n");
   const Field quad = [](double u, double v, double* f) {
@@ -469,7 +469,7 @@ ConvergenceResult KinkErrors(int n, bool order1, unsigned seed, double* c0Gap = 
   return res;
 }
 
-void TestKinkConvergence()
+PENUMBRA_TEST(TestKinkConvergence)
 {
   std::printf("-- kink along an order-1 line: convergence under refinement\n");
   const int levels[] = { 10, 20, 40, 80 };
@@ -520,7 +520,7 @@ void TestKinkConvergence()
 }
 
 //------------------------------------------------------------------------------
-void TestJump()
+PENUMBRA_TEST(TestJump)
 {
   std::printf("-- jump along an order-0 line (duplicated points)\n");
   const Field left = [](double u, double v, double* f) {
@@ -672,7 +672,7 @@ void TestJump()
 // Order-1 lines that meet (T-junction), end inside the mesh, and run along a
 // grid row: C0 across every constrained edge, C1 across every other shared
 // edge, whatever the data.
-void TestLineTopology()
+PENUMBRA_TEST(TestLineTopology)
 {
   std::printf("-- order-1 lines meeting and ending inside\n");
   const Field f = [](double u, double v, double* out) {
@@ -744,7 +744,7 @@ void TestLineTopology()
 }
 
 //------------------------------------------------------------------------------
-void TestNonNegativity()
+PENUMBRA_TEST(TestNonNegativity)
 {
   std::printf("-- non-negativity property test\n");
   const int seeds = 300;
@@ -861,7 +861,7 @@ void TestNonNegativity()
 // negativity, zeroed the line points' gradients in every sector, and the lit
 // side sagged by up to 25% next to the line (the "occluder 1e-6 above the
 // receiver" adversarial case).
-void TestRotatedUmbraBoundary()
+PENUMBRA_TEST(TestRotatedUmbraBoundary)
 {
   std::printf("-- lit side against an unlit side across an order-1 line, rotated mesh\n");
   const double line = 0.45, slope = 2.0;
@@ -909,7 +909,7 @@ void TestRotatedUmbraBoundary()
 }
 
 //------------------------------------------------------------------------------
-void TestMachBands()
+PENUMBRA_TEST(TestMachBands)
 {
   std::printf("-- gradient continuity across interior edges (Mach bands)\n");
   const Field smooth = [](double u, double v, double* f) {
@@ -1072,7 +1072,7 @@ void CheckResampledMesh(const SampleMesh& in, const ResampledMesh& out, const ch
   PENUMBRA_EXPECT(strayBoundary == 0);
 }
 
-void TestResample()
+PENUMBRA_TEST(TestResample)
 {
   std::printf("-- resampling\n");
   const Field f = [](double u, double v, double* out) {
@@ -1298,7 +1298,7 @@ Calibration Calibrate(const Reconstruction& r, const std::function<double(double
   return c;
 }
 
-void TestErrorEstimate()
+PENUMBRA_TEST(TestErrorEstimate)
 {
   std::printf("-- error estimate\n");
   // Probes raise the bound of their triangle (and of its output points).
@@ -1426,7 +1426,7 @@ void TestErrorEstimate()
 }
 
 //------------------------------------------------------------------------------
-void TestBadInput()
+PENUMBRA_TEST(TestBadInput)
 {
   std::printf("-- bad input\n");
   SampleMesh m;
@@ -1480,18 +1480,3 @@ void TestBadInput()
 }
 
 } // namespace
-
-int main()
-{
-  TestQuadraticExact();
-  TestKinkConvergence();
-  TestJump();
-  TestLineTopology();
-  TestNonNegativity();
-  TestRotatedUmbraBoundary();
-  TestMachBands();
-  TestResample();
-  TestErrorEstimate();
-  TestBadInput();
-  return penumbra::testing::Result();
-}

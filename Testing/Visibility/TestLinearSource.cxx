@@ -254,7 +254,7 @@ void CheckConfiguration(const char* name, const Vec3& x, const Vec3& n,
   PENUMBRA_EXPECT(worst <= tolerance);
 }
 
-void TestClausen()
+PENUMBRA_TEST(TestClausen)
 {
   std::printf("Clausen's integral\n");
   // Catalan's constant G = Cl2(pi/2) and the maximum Cl2(pi/3) (OEIS A006752, A143298).
@@ -284,7 +284,7 @@ void TestClausen()
   }
 }
 
-void TestAgainstQuadrature()
+PENUMBRA_TEST(TestAgainstQuadrature)
 {
   // Required: 1e-9 everywhere; reached: 1e-12 or better except where noted.
   std::printf("closed form vs. adaptive quadrature (relative to the largest channel)\n");
@@ -343,7 +343,7 @@ void TestAgainstQuadrature()
   CheckConfiguration("strong gradient", { 0.3, 0.2, -0.1 }, Unit(0.1, 1, 0), parallel, spike, 1e-12);
 }
 
-void TestConstantCase()
+PENUMBRA_TEST(TestConstantCase)
 {
   std::printf("zero gradient equals pi L F (Lambert)\n");
   // Counter-clockwise seen from below (front -y).
@@ -376,7 +376,7 @@ void TestConstantCase()
   }
 }
 
-void TestShooterMesh()
+PENUMBRA_TEST(TestShooterMesh)
 {
   std::printf("piecewise-linear shooter through a visible region\n");
   // Shooter: square [-1, 1]^2 at y = 1 facing down, a 3 x 3 grid of points
@@ -474,7 +474,7 @@ void TestShooterMesh()
   }
 }
 
-void TestInvalidMesh()
+PENUMBRA_TEST(TestInvalidMesh)
 {
   const std::vector<Vec3> p = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 1, 1, 0.5 } };
   const std::vector<RGB> v(4, RGB(1, 1, 1));
@@ -486,7 +486,7 @@ void TestInvalidMesh()
 }
 
 /// The paper's Fig. 7/8: a shooter bright on one half gives a shifted bump.
-void TestHalfLitShooter()
+PENUMBRA_TEST(TestHalfLitShooter)
 {
   std::printf("half-lit shooter (paper Fig. 7/8)\n");
   // Shooter [-1, 1] x [-1, 1] at y = 1 facing down; radiance 0 for u < -0.05,
@@ -561,7 +561,7 @@ void TestHalfLitShooter()
 // A receiving point at a vertex of the source, a rounding error above its
 // plane (a box's corner on the floor it stands on): the integral is tiny
 // and must stay finite (it was NaN, from the moments' centroid 0 / 0).
-void TestPointAtVertex()
+PENUMBRA_TEST(TestPointAtVertex)
 {
   const Vec3 points[3] = { Vec3(0, 0, 0), Vec3(0.05, 0, 0), Vec3(0, 0, 0.05) };
   const RGB values[3] = { RGB(1, 0, 0), RGB(0, 1, 0), RGB(0, 0, 1) };
@@ -587,16 +587,4 @@ void TestPointAtVertex()
       }
     }
   }
-}
-
-int main()
-{
-  TestClausen();
-  TestAgainstQuadrature();
-  TestConstantCase();
-  TestShooterMesh();
-  TestInvalidMesh();
-  TestHalfLitShooter();
-  TestPointAtVertex();
-  return penumbra::testing::Result();
 }

@@ -6,6 +6,7 @@
 #include "penumbraObjReader.h"
 #include "penumbraTesting.h"
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -51,8 +52,13 @@ void Write(const fs::path& path, const std::string& text)
   out << text;
 }
 
-void TestFiles(const fs::path& dir)
+PENUMBRA_TEST(TestFiles)
 {
+  // A folder of its own, so that concurrent runs do not share files.
+  std::random_device seed;
+  const fs::path dir =
+    fs::temp_directory_path() / ("penumbra-TestObjReader-" + std::to_string(seed()));
+  fs::create_directories(dir);
   // mtllib paths are relative to the OBJ's folder, not the working directory;
   // several names on one line, and a name containing a space.
   Write(dir / "scene" / "box.obj",
@@ -87,9 +93,11 @@ void TestFiles(const fs::path& dir)
   Write(dir / "dirmtl.obj", "mtllib scene\n");
   PENUMBRA_EXPECT_THROW(ReadObjScene((dir / "dirmtl.obj").string()), InputError,
     "dirmtl.obj:1: cannot open material library 'scene'");
+  std::error_code ec;
+  fs::remove_all(dir, ec);
 }
 
-void TestSyntax()
+PENUMBRA_TEST(TestSyntax)
 {
   const Files mtls = { { "m.mtl",
                          "# materials\r\n"
@@ -179,7 +187,7 @@ void TestSyntax()
 #define EXPECT_MTL_ERROR(text, fragment)                                                           \
   PENUMBRA_EXPECT_THROW(Parse("mtllib m.mtl\n", { { "m.mtl", text } }), InputError, fragment)
 
-void TestErrors()
+PENUMBRA_TEST(TestErrors)
 {
   const std::string square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
   const std::string eight = square + "v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
@@ -257,7 +265,7 @@ void TestErrors()
 
 // Every prefix of a valid file (a truncated download) and random byte
 // corruptions are either parsed or rejected with InputError.
-void TestTruncationAndCorruption()
+PENUMBRA_TEST(TestTruncationAndCorruption)
 {
   const Files mtls = { { "m.mtl", "newmtl a\nKd 0.5 0.25 0.125\nKe 1 2 3\n" } };
   const std::string obj = "mtllib m.mtl\nv 0 0 0\nv 1.5 0 0\nv 1.5 -1e-3 2.25\n"
@@ -296,8 +304,17 @@ void TestTruncationAndCorruption()
   PENUMBRA_EXPECT(parsed > 0 && rejected > 0);
 }
 
-void TestDataScene(const fs::path& dataDir)
+// The OBJ scene of Testing/Data, found through PENUMBRA_TEST_DATA_DIR (CTest
+// sets it); without it the case checks nothing.
+PENUMBRA_TEST(TestDataScene)
 {
+  const char* data = std::getenv("PENUMBRA_TEST_DATA_DIR");
+  if (!data)
+  {
+    std::cout << "TestDataScene: PENUMBRA_TEST_DATA_DIR not set, skipped" << std::endl;
+    return;
+  }
+  const fs::path dataDir = data;
   const Scene s = ReadObjScene((dataDir / "Scenes" / "box.obj").string());
   PENUMBRA_EXPECT(s.Surfaces.size() == 7);
   bool valid = true;
@@ -332,22 +349,3 @@ void TestDataScene(const fs::path& dataDir)
 }
 
 } // namespace
-
-int main(int argc, char* argv[])
-{
-  std::random_device seed;
-  const fs::path dir =
-    fs::temp_directory_path() / ("penumbra-TestObjReader-" + std::to_string(seed()));
-  fs::create_directories(dir);
-  TestFiles(dir);
-  std::error_code ec;
-  fs::remove_all(dir, ec);
-  TestSyntax();
-  TestErrors();
-  TestTruncationAndCorruption();
-  if (argc > 1)
-  {
-    TestDataScene(argv[1]);
-  }
-  return penumbra::testing::Result();
-}

@@ -280,7 +280,7 @@ void CompareMonteCarlo(const char* name, const Scene& scene, int shooter, int re
 // One parallel occluder under a parallel light: the visible part is the light
 // minus the occluder's projection, both aligned rectangles, so F is a signed
 // sum of closed-form corner rectangles.
-void TestOneOccluderClosedForm()
+PENUMBRA_TEST(TestOneOccluderClosedForm)
 {
   const double h = 2.0, zo = 1.0;
   const double ox0 = -0.3, ox1 = 0.4, oy0 = -0.2, oy1 = 0.25;
@@ -342,7 +342,7 @@ void TestOneOccluderClosedForm()
   PENUMBRA_EXPECT(split.FormFactor(Vec3(0.02, -0.03, 0), Vec3(0, 0, 1), 1, 0, ws) == 0.0);
 }
 
-void TestOverlappingOccluders()
+PENUMBRA_TEST(TestOverlappingOccluders)
 {
   Scene scene = LightAndFloor(2.0);
   scene.Surfaces.push_back(HorizontalRect(-0.4, 0.1, -0.3, 0.2, 1.2, -1.0));
@@ -367,7 +367,7 @@ void TestOverlappingOccluders()
     "overlapping occluders, side", scene, 0, 1, Vec3(-0.8, 0.6, 0.0), Vec3(0, 0, 1));
 }
 
-void TestBoxOnFloor()
+PENUMBRA_TEST(TestBoxOnFloor)
 {
   Scene scene = LightAndFloor(1.5);
   AddBox(scene, Vec3(0.1, -0.2, 0.0), Vec3(0.5, 0.2, 0.6)); // bottom face lies on the floor
@@ -424,7 +424,7 @@ void TestBoxOnFloor()
     "box on floor, on the contact line", scene, 0, 1, Vec3(0.5, 0.1, 0.0), Vec3(0, 0, 1));
 }
 
-void TestStraddlingShooterPlane()
+PENUMBRA_TEST(TestStraddlingShooterPlane)
 {
   Scene scene = LightAndFloor(2.0);
   // Vertical plate piercing the light.
@@ -440,7 +440,7 @@ void TestStraddlingShooterPlane()
   CompareMonteCarlo("straddling, other side", scene, 0, 1, Vec3(-0.6, -0.2, 0.0), Vec3(0, 0, 1));
 }
 
-void TestTouchingAndTangent()
+PENUMBRA_TEST(TestTouchingAndTangent)
 {
   Scene scene = LightAndFloor(2.0);
   // A wall whose top edge lies in the light (touches the shooter).
@@ -460,7 +460,7 @@ void TestTouchingAndTangent()
     "crossing the tangent plane (lit)", scene, 0, 1, Vec3(-0.65, 0.1, 0.0), Vec3(0, 0, 1));
 }
 
-void TestTiltedReceiver()
+PENUMBRA_TEST(TestTiltedReceiver)
 {
   // The receiver's tangent plane cuts the light: clipping plus occluders.
   Scene scene = LightAndFloor(2.0);
@@ -472,7 +472,7 @@ void TestTiltedReceiver()
   CompareMonteCarlo("tilted receiver, clipped light", scene, 0, 1, x, n);
 }
 
-void TestConcave()
+PENUMBRA_TEST(TestConcave)
 {
   Scene scene;
   // L-shaped light at z = 2 facing down (a concave shooter).
@@ -501,7 +501,7 @@ void TestConcave()
     1e-12);
 }
 
-void TestEdgeOn()
+PENUMBRA_TEST(TestEdgeOn)
 {
   Scene scene = LightAndFloor(2.0);
   // A vertical plate in the plane x = 0, through the floor.
@@ -529,7 +529,7 @@ void TestEdgeOn()
   }
 }
 
-void TestShooterPlane()
+PENUMBRA_TEST(TestShooterPlane)
 {
   Scene scene = LightAndFloor(2.0);
   scene.Surfaces.push_back(HorizontalRect(-0.2, 0.2, -0.2, 0.2, 1.0, 1.0));
@@ -618,7 +618,7 @@ Scene CornellBox()
   return scene;
 }
 
-void TestCornellBox()
+PENUMBRA_TEST(TestCornellBox)
 {
   const Scene scene = CornellBox();
   penumbra::ExactEvaluator evaluator(scene);
@@ -645,7 +645,7 @@ void TestCornellBox()
     penumbra::Normalized(Cross(Vec3(314 - 265, 0, 456 - 296), Vec3(0, 1, 0))));
 }
 
-void TestSymmetryAndBounds()
+PENUMBRA_TEST(TestSymmetryAndBounds)
 {
   // A scene symmetric under y -> -y.
   Scene scene = LightAndFloor(2.0);
@@ -815,7 +815,7 @@ std::vector<Vec3> ClipConvexXY(std::vector<Vec3> subject, const std::vector<Vec3
 // occluders, F = F(L) - sum F(L n Pi) + sum F(L n Pi n Pj) - ..., each term an
 // exact Lambert integral of a convex polygon. Independent of the code under
 // test (projection instead of half-planes, no piece subtraction).
-void TestInclusionExclusion()
+PENUMBRA_TEST(TestInclusionExclusion)
 {
   std::mt19937_64 rng(99);
   // Heights from just above the floor to just below the light: occluders
@@ -931,7 +931,7 @@ double PolygonArea(const std::vector<Vec3>& v)
   return 0.5 * Length(a);
 }
 
-void TestDecomposition()
+PENUMBRA_TEST(TestDecomposition)
 {
   // Concave outlines (counter-clockwise seen from +z, then tilted in 3D).
   const std::vector<std::vector<double>> outlines = {
@@ -1011,7 +1011,7 @@ void TestDecomposition()
   PENUMBRA_EXPECT(penumbra::VisibleFormFactor(set, back, c, 0, -1, all, ws) == 0.0);
 }
 
-void TestNoAllocation()
+PENUMBRA_TEST(TestNoAllocation)
 {
   Scene scene = LightAndFloor(2.0);
   AddBox(scene, Vec3(0.1, -0.2, 0.0), Vec3(0.5, 0.2, 0.6));
@@ -1051,7 +1051,7 @@ void TestNoAllocation()
   std::printf("heap allocations in 1000 warm queries: %lld\n", allocations);
 }
 
-void TestCulling()
+PENUMBRA_TEST(TestCulling)
 {
   // Query A keeps the blockers and drops what is outside the shaft.
   Scene scene = LightAndFloor(2.0);
@@ -1087,7 +1087,7 @@ void TestCulling()
 // candidates with the capsule are those without it (box and planes alone,
 // which keep some polygons that miss a thin pyramid) less polygons none of
 // whose points, on a 21 x 21 grid over each, lies in the pyramid.
-void TestCapsuleKeepsCandidates()
+PENUMBRA_TEST(TestCapsuleKeepsCandidates)
 {
   const double h = 3.0;
   Scene scene = LightAndFloor(h);
@@ -1164,24 +1164,3 @@ void TestCapsuleKeepsCandidates()
 }
 
 } // namespace
-
-int main()
-{
-  TestOneOccluderClosedForm();
-  TestCulling();
-  TestCapsuleKeepsCandidates();
-  TestDecomposition();
-  TestNoAllocation();
-  TestInclusionExclusion();
-  TestOverlappingOccluders();
-  TestBoxOnFloor();
-  TestStraddlingShooterPlane();
-  TestTouchingAndTangent();
-  TestTiltedReceiver();
-  TestConcave();
-  TestEdgeOn();
-  TestShooterPlane();
-  TestCornellBox();
-  TestSymmetryAndBounds();
-  return penumbra::testing::Result();
-}

@@ -209,7 +209,7 @@ MeshCheck CheckMesh(const ReceiverMesh& mesh, const Surface& receiver)
 // square (+-1.3) and the umbra's square (+-0.3), the latter continued across
 // the penumbra (those pieces are real slope discontinuities too: across
 // them a strip of the light along one of its edges appears or disappears).
-void TestParallelOccluder()
+PENUMBRA_TEST(TestParallelOccluder)
 {
   Scene scene;
   scene.Surfaces.push_back(Make(Square(0, 0, 0, 4, 4, true), RGB(0.5, 0.5, 0.5)));
@@ -323,7 +323,7 @@ void TestParallelOccluder()
 // Minkowski sum of the two polygons. A wedge is supporting when the plane
 // through its three defining points has the whole light on one side and the
 // whole occluder on one side; with InteriorEvents every wedge counts.
-void TestRotatedOccluder()
+PENUMBRA_TEST(TestRotatedOccluder)
 {
   const double yaw = 30.0 * M_PI / 180.0;
   Scene scene;
@@ -410,7 +410,7 @@ void TestRotatedOccluder()
 //------------------------------------------------------------------------------
 // A closed box (top + 4 sides, no bottom) standing on the floor under a
 // light, and a single wall standing on the floor (not closed).
-void TestContact()
+PENUMBRA_TEST(TestContact)
 {
   Scene scene;
   scene.Surfaces.push_back(Make(Square(0, 0, 0, 4, 4, true), RGB(0.5, 0.5, 0.5)));
@@ -565,7 +565,7 @@ void TestContact()
 // Built-in scenes: every receiver meshed; no failed insertion, every triangle
 // inside its receiver and counter-clockwise, area = receiver area minus the
 // footprints of the blocks standing on it (Cornell floor), no zero area.
-void TestBuiltinScenes()
+PENUMBRA_TEST(TestBuiltinScenes)
 {
   struct Case
   {
@@ -699,7 +699,7 @@ void TestBuiltinScenes()
 //------------------------------------------------------------------------------
 // A concave (L-shaped) receiver with a shadow across its reflex corner: every
 // triangle inside the L, area exact, shadow lines clipped to the L.
-void TestConcaveReceiver()
+PENUMBRA_TEST(TestConcaveReceiver)
 {
   Scene scene;
   const RGB grey(0.5, 0.5, 0.5);
@@ -783,7 +783,7 @@ Scene RandomBoxes(std::vector<std::vector<Vec3>>& prints, double& footprints)
   return scene;
 }
 
-void TestRandomBoxes()
+PENUMBRA_TEST(TestRandomBoxes)
 {
   std::vector<std::vector<Vec3>> prints;
   double footprints = 0.0;
@@ -831,7 +831,7 @@ void TestRandomBoxes()
 // a jump threshold, the boundaries are the same segments (same order and
 // source, end points within 1e-9 of the scene size) with and without it, and
 // no more wedges are traced with it (fewer than half on the boxes).
-void TestCullingKeepsBoundaries()
+PENUMBRA_TEST(TestCullingKeepsBoundaries)
 {
   std::vector<std::vector<Vec3>> prints;
   double footprints = 0.0;
@@ -903,7 +903,7 @@ void TestCullingKeepsBoundaries()
 // spike must lie on an order-0 or order-1 line of the mesh. Conversely the
 // order-1 lines crossed are counted with and without a spike (face-plane and
 // parallel-edge lines: D1 by construction).
-void TestSlopeJumpsOnCornellFloor()
+PENUMBRA_TEST(TestSlopeJumpsOnCornellFloor)
 {
   const Scene scene = MakeBuiltinScene("cornell");
   DiscontinuityMesher mesher(scene);
@@ -993,7 +993,7 @@ void TestSlopeJumpsOnCornellFloor()
 }
 
 //------------------------------------------------------------------------------
-void TestJumpThresholdAndErrors()
+PENUMBRA_TEST(TestJumpThresholdAndErrors)
 {
   const Scene scene = MakeBuiltinScene("seven");
   DiscontinuityMesher mesher(scene);
@@ -1032,17 +1032,3 @@ void TestJumpThresholdAndErrors()
 }
 
 } // namespace
-
-int main()
-{
-  TestParallelOccluder();
-  TestRotatedOccluder();
-  TestContact();
-  TestBuiltinScenes();
-  TestSlopeJumpsOnCornellFloor();
-  TestRandomBoxes();
-  TestCullingKeepsBoundaries();
-  TestConcaveReceiver();
-  TestJumpThresholdAndErrors();
-  return penumbra::testing::Result();
-}

@@ -122,7 +122,7 @@ double InterpolateOnFloor(const StandardRadiosityMesh& mesh, double x, double z)
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-void TestFurnace()
+PENUMBRA_TEST(TestFurnace)
 {
   const RGB rho(0.3, 0.5, 0.7);
   const RGB le(1.0, 1.0, 1.0);
@@ -179,7 +179,7 @@ void TestFurnace()
   }
 }
 
-void TestEnergyBalance()
+PENUMBRA_TEST(TestEnergyBalance)
 {
   StandardRadiositySettings settings;
   settings.UnshotFraction = 1e-2;
@@ -245,7 +245,7 @@ DirectError MeasureDirect(const StandardRadiositySettings& settings)
   return { std::sqrt(sum2 / count) / mean, worst / mean, summary.Vertices };
 }
 
-void TestDirectConvergence()
+PENUMBRA_TEST(TestDirectConvergence)
 {
   // The form factor this test trusts: Howell's differential area to a
   // parallel unit square centred at distance 1.
@@ -294,7 +294,7 @@ void TestDirectConvergence()
   }
 }
 
-void TestAdaptiveSubdivision()
+PENUMBRA_TEST(TestAdaptiveSubdivision)
 {
   // The paper's Fig. 3 in 3D: adaptive subdivision must refine around the
   // shadow, adding elements, and be deterministic across thread counts.
@@ -341,7 +341,7 @@ void TestAdaptiveSubdivision()
   PENUMBRA_EXPECT(inverted == 0);
 }
 
-void TestFormFactors()
+PENUMBRA_TEST(TestFormFactors)
 {
   // The occluder scene (paper Fig. 3): light (surface 1) 0.5 x 0.5 m at
   // y = 2, occluder 0.6 x 0.6 m at y = 1; umbra |x|, |z| < 0.35 m on the floor.
@@ -377,7 +377,7 @@ void TestFormFactors()
     solver.GetPatch(solver.GetNumberOfPatches()), penumbra::InputError, "out of range");
 }
 
-void TestSettings()
+PENUMBRA_TEST(TestSettings)
 {
   StandardRadiosity solver(SquareLightOverFloor());
   StandardRadiositySettings bad;
@@ -398,14 +398,3 @@ void TestSettings()
 }
 
 } // namespace
-
-int main()
-{
-  TestFurnace();
-  TestEnergyBalance();
-  TestDirectConvergence();
-  TestAdaptiveSubdivision();
-  TestFormFactors();
-  TestSettings();
-  return penumbra::testing::Result();
-}

@@ -208,7 +208,7 @@ double IntegratePerpendicular(double h, double w, double l, int order, int level
   return sum / (w * l);
 }
 
-void TestPointParallel()
+PENUMBRA_TEST(TestPointParallel)
 {
   // Unit square centred at distance 1: four corner rectangles 0.5 x 0.5.
   const double reference = 4.0 * CornerParallel(0.5, 0.5, 1.0);
@@ -230,7 +230,7 @@ void TestPointParallel()
   }
 }
 
-void TestCornellLight()
+PENUMBRA_TEST(TestCornellLight)
 {
   // Floor point under the Cornell light (mm); the light faces down (-y).
   const Vec3 light[4] = { { 343, 548.8, 227 }, { 343, 548.8, 332 }, { 213, 548.8, 332 },
@@ -247,7 +247,7 @@ void TestCornellLight()
   PENUMBRA_EXPECT_REL(Pi * le * f, Pi * le * reference, 1e-12);
 }
 
-void TestPerpendicular()
+PENUMBRA_TEST(TestPerpendicular)
 {
   // Element at the origin facing +z; rectangle in the plane x = d facing -x,
   // y in [y0, y1], z in [0, c].
@@ -272,7 +272,7 @@ void TestPerpendicular()
   }
 }
 
-void TestClipping()
+PENUMBRA_TEST(TestClipping)
 {
   const Vec3 x(0, 0, 0), n(0, 0, 1);
   // A rectangle straddling the tangent plane z = 0: only z in [0, 1] counts.
@@ -316,7 +316,7 @@ void TestClipping()
   PENUMBRA_EXPECT(penumbra::PointPolygonFormFactorClipped(x, n, below, 3) == 0.0);
 }
 
-void TestOrientation()
+PENUMBRA_TEST(TestOrientation)
 {
   const Vec3 x(0, 0, 0), n(0, 0, 1);
   // Facing x (normal -z, counter-clockwise seen from below) and reversed.
@@ -341,7 +341,7 @@ void TestOrientation()
   PENUMBRA_EXPECT_NEAR(penumbra::PointPolygonFormFactor(x, n, sky, 4), 1.0, 1e-7);
 }
 
-void TestEdgeAngle()
+PENUMBRA_TEST(TestEdgeAngle)
 {
   // The edge angle equals atan2(s, c) to an ulp or two, at every angle.
   double worst = 0.0;
@@ -358,7 +358,7 @@ void TestEdgeAngle()
   PENUMBRA_EXPECT(worst <= 4.5e-16);
 }
 
-void TestAreaToArea()
+PENUMBRA_TEST(TestAreaToArea)
 {
   // Parallel directly opposed squares/rectangles: design.md's values, the
   // closed form, and the integral of point values.
@@ -400,15 +400,3 @@ void TestAreaToArea()
 }
 
 } // namespace
-
-int main()
-{
-  TestPointParallel();
-  TestCornellLight();
-  TestPerpendicular();
-  TestClipping();
-  TestOrientation();
-  TestEdgeAngle();
-  TestAreaToArea();
-  return penumbra::testing::Result();
-}

@@ -303,7 +303,7 @@ ErrorStats MeasureErrors(const AdaptiveSamplingResult& result, ReconstructionMod
 //------------------------------------------------------------------------------
 // A linear function is reproduced by the initial mesh: no insertion, probes
 // zero.
-void TestLinear()
+PENUMBRA_TEST(TestLinear)
 {
   const ReceiverMesh mesh = StripMesh({ 0.3, 0.7 }, { 1, 2 }, 3);
   long long calls = 0;
@@ -333,7 +333,7 @@ void TestLinear()
 //------------------------------------------------------------------------------
 // MaximumEdgeLength: a linear function needs no sample, yet every edge of the
 // result is at most the limit (and the values stay exact: nothing else moves).
-void TestMaximumEdgeLength()
+PENUMBRA_TEST(TestMaximumEdgeLength)
 {
   const ReceiverMesh mesh = StripMesh({ 0.3, 0.7 }, { 1, 2 }, 3);
   const auto f = Batch([](const Vec3& p) { return 1.0 + 2.0 * p.X - 0.5 * p.Y; }, nullptr);
@@ -367,7 +367,7 @@ void TestMaximumEdgeLength()
 // Order-0 line: a step function across it is exact on both sides (each copy
 // of a point on the line evaluated inside its side), and refinement of a
 // smooth function around it keeps per-side values.
-void TestStep()
+PENUMBRA_TEST(TestStep)
 {
   const ReceiverMesh mesh = StripMesh({ 0.4, 0.7 }, { 0, 1 }, 4);
   auto step = [](const Vec3& p) { return p.X < 0.4 ? 1.0 : 3.0; };
@@ -430,7 +430,7 @@ void TestStep()
 
 //------------------------------------------------------------------------------
 // A smooth bump converges as the tolerance shrinks; constraints survive.
-void TestBumpConvergence()
+PENUMBRA_TEST(TestBumpConvergence)
 {
   const ReceiverMesh mesh = StripMesh({ 0.3, 0.75 }, { 1, 2 }, 2);
   auto bump = [](const Vec3& p) {
@@ -482,7 +482,7 @@ void TestBumpConvergence()
 // Late passes rebuild the interpolant only around the points just inserted
 // and keep the other triangles' residuals: every final probe must equal the
 // residual against an interpolant built on the whole final mesh.
-void TestLocalizedPassesMatchWholeRebuild()
+PENUMBRA_TEST(TestLocalizedPassesMatchWholeRebuild)
 {
   const ReceiverMesh mesh = StripMesh({ 0.3, 0.75 }, { 1, 2 }, 2);
   auto field = [](const Vec3& p) {
@@ -524,7 +524,7 @@ void TestLocalizedPassesMatchWholeRebuild()
 //------------------------------------------------------------------------------
 // Budget, passes and determinism (independent of the order in which the
 // evaluation function computes its batch).
-void TestBudgetAndDeterminism()
+PENUMBRA_TEST(TestBudgetAndDeterminism)
 {
   const ReceiverMesh mesh = StripMesh({ 0.3, 0.75 }, { 0, 1 }, 2);
   auto bump = [](const Vec3& p) {
@@ -610,7 +610,7 @@ struct DirectLight
 
 // Constraints survive on real discontinuity meshes (Cornell floor with its
 // block footprints, and the paper scenes), values per side on order-0 lines.
-void TestMesherMeshes()
+PENUMBRA_TEST(TestMesherMeshes)
 {
   struct Case
   {
@@ -715,7 +715,7 @@ void TestMesherMeshes()
 // points. The accuracy targets are the seven-occluder and blind floors'; the
 // calibration is also asserted on the Cornell floor (lit by its light, the
 // blocks' footprints cut out).
-void TestDirectAccuracy()
+PENUMBRA_TEST(TestDirectAccuracy)
 {
   const struct
   {
@@ -839,7 +839,7 @@ void TestDirectAccuracy()
 // outline given by its corners alone once left long thin triangles along each
 // edge (6% error along a floor's edge in test_adversarial.py), and a strip
 // narrower than the grid (aspect 1e6) got its four corners and nothing else.
-void TestUniformSamplesTheOutline()
+PENUMBRA_TEST(TestUniformSamplesTheOutline)
 {
   for (const double height : { 1.0, 1e-6 })
   {
@@ -879,7 +879,7 @@ void TestUniformSamplesTheOutline()
 // its triangles are narrower than MinimumFeatureSize times its diameter, and
 // the strip was once left with its initial points (1.3% RMS error in
 // test_adversarial.py's sliver case).
-void TestThinStripIsRefined()
+PENUMBRA_TEST(TestThinStripIsRefined)
 {
   ReceiverMesh mesh = StripMesh({ 0.5 }, { 1 }, 1);
   for (Vec3& p : mesh.Points)
@@ -955,7 +955,7 @@ ReceiverMesh SmallFeatureMesh(double c, double a)
 // of the receiver (1e-4 of its diameter, 1.4e-4): its discontinuity lines
 // mark it, and it is refined to the tolerance like a large one. A bump of
 // that size centred in it is checked at random points around it.
-void TestSmallFeatureIsResolved()
+PENUMBRA_TEST(TestSmallFeatureIsResolved)
 {
   const double c = 0.3, a = 1e-4;
   const ReceiverMesh mesh = SmallFeatureMesh(c, a);
@@ -994,7 +994,7 @@ void TestSmallFeatureIsResolved()
 // triangle counter-clockwise. Refined down to the feature's floor (1e-7
 // here), slivers came back flat or flipped (a 1,000-polygon room's
 // evaluator output was refused by the reconstructor).
-void TestRefinementStaysAboveRounding()
+PENUMBRA_TEST(TestRefinementStaysAboveRounding)
 {
   const double offset = 1e4, c = 0.3, a = 1e-4;
   ReceiverMesh mesh = SmallFeatureMesh(c, a);
@@ -1039,7 +1039,7 @@ void TestRefinementStaysAboveRounding()
 // direction from it, as at a contact corner): refinement never converges and
 // must stop above rounding. It once split triangles until they were
 // degenerate, and the interpolant refused them.
-void TestZeroMinimumFeatureSizeStops()
+PENUMBRA_TEST(TestZeroMinimumFeatureSizeStops)
 {
   const ReceiverMesh mesh = StripMesh({ 0.5 }, { 1 }, 2);
   auto fan = [](const Vec3& p) {
@@ -1088,7 +1088,7 @@ void TestZeroMinimumFeatureSizeStops()
 
 //------------------------------------------------------------------------------
 // Settings and input errors.
-void TestBadInput()
+PENUMBRA_TEST(TestBadInput)
 {
   const ReceiverMesh mesh = StripMesh({ 0.5 }, { 1 }, 1);
   const auto f = Batch([](const Vec3&) { return 1.0; });
@@ -1110,22 +1110,3 @@ void TestBadInput()
 }
 
 } // namespace
-
-int main()
-{
-  TestLocalizedPassesMatchWholeRebuild();
-  TestLinear();
-  TestMaximumEdgeLength();
-  TestStep();
-  TestBumpConvergence();
-  TestBudgetAndDeterminism();
-  TestMesherMeshes();
-  TestDirectAccuracy();
-  TestUniformSamplesTheOutline();
-  TestThinStripIsRefined();
-  TestSmallFeatureIsResolved();
-  TestRefinementStaysAboveRounding();
-  TestZeroMinimumFeatureSizeStops();
-  TestBadInput();
-  return testing::Result();
-}

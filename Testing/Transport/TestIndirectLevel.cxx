@@ -103,7 +103,7 @@ RGB Integral(const SurfaceSamples& s, const std::vector<RGB>& values)
   return sum;
 }
 
-void TestCoverAndCount()
+PENUMBRA_TEST(TestCoverAndCount)
 {
   const Surface s = LShape();
   std::mt19937 random(1);
@@ -123,7 +123,7 @@ void TestCoverAndCount()
   }
 }
 
-void TestRestriction()
+PENUMBRA_TEST(TestRestriction)
 {
   const Surface s = LShape();
   std::mt19937 random(2);
@@ -162,7 +162,7 @@ void TestRestriction()
   PENUMBRA_EXPECT_NEAR(worst, 0.0, 1e-12);
 }
 
-void TestProlongation()
+PENUMBRA_TEST(TestProlongation)
 {
   const Surface s = LShape();
   std::mt19937 random(3);
@@ -193,7 +193,7 @@ void TestProlongation()
   PENUMBRA_EXPECT_NEAR(worst, 0.0, 1e-12);
 }
 
-void TestSpacing()
+PENUMBRA_TEST(TestSpacing)
 {
   Scene scene;
   scene.Surfaces.push_back(LShape());
@@ -218,12 +218,3 @@ void TestSpacing()
 }
 
 } // namespace
-
-int main()
-{
-  TestCoverAndCount();
-  TestRestriction();
-  TestProlongation();
-  TestSpacing();
-  return penumbra::testing::Result();
-}

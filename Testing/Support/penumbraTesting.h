@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /**
  * @file penumbraTesting.h
- * @brief Minimal assertion helpers for the core unit tests (pbrt-style
- * EXPECT_NEAR on closed forms). A test is a main() that returns
- * penumbra::testing::Result(): non-zero if any expectation failed.
+ * @brief Minimal test cases and assertion helpers for the core unit tests
+ * (pbrt-style EXPECT_NEAR on closed forms).
+ *
+ * PENUMBRA_TEST(Name) { ... } defines and registers a case. The shared main()
+ * (penumbraTestMain.cxx) runs the case named by its first argument, or every
+ * case, and `--list` prints the names. A case fails when any expectation in it
+ * fails; CMake registers one CTest entry per case, read from the source.
  */
 #ifndef penumbraTesting_h
 #define penumbraTesting_h
@@ -14,11 +18,40 @@
 #include <functional>
 #include <iostream>
 #include <string>
+#include <vector>
 
 namespace penumbra
 {
 namespace testing
 {
+
+/// A registered test case. A plain function pointer: the registry is built
+/// during static initialisation, before main().
+struct Case
+{
+  const char* Name;
+  void (*Function)();
+};
+
+/// The cases of this program, in definition order.
+inline std::vector<Case>& Cases()
+{
+  static std::vector<Case> cases;
+  return cases;
+}
+
+inline bool Register(const char* name, void (*function)())
+{
+  Cases().push_back({ name, function });
+  return true;
+}
+
+/// The case being run, printed with each failure (null outside a case).
+inline const char*& CurrentCase()
+{
+  static const char* name = nullptr;
+  return name;
+}
 
 inline int& FailureCount()
 {
@@ -31,19 +64,12 @@ inline void Report(bool ok, const char* file, int line, const std::string& what)
   if (!ok)
   {
     ++FailureCount();
+    if (CurrentCase())
+    {
+      std::cerr << "[" << CurrentCase() << "] ";
+    }
     std::cerr << file << ":" << line << ": FAILED: " << what << std::endl;
   }
-}
-
-inline int Result()
-{
-  if (FailureCount() == 0)
-  {
-    std::cout << "all expectations passed" << std::endl;
-    return 0;
-  }
-  std::cerr << FailureCount() << " expectation(s) failed" << std::endl;
-  return 1;
 }
 
 /// Relative difference |a-b| / max(|b|, tiny), used by EXPECT_REL.
@@ -55,6 +81,13 @@ inline double RelativeError(double actual, double expected)
 
 } // namespace testing
 } // namespace penumbra
+
+/// Define and register the test case `name` (a function of no arguments).
+#define PENUMBRA_TEST(name)                                                                        \
+  static void name();                                                                              \
+  [[maybe_unused]] static const bool penumbraRegistered##name##_ =                                 \
+    penumbra::testing::Register(#name, &name);                                                     \
+  static void name()
 
 #define PENUMBRA_EXPECT(cond)                                                                      \
   penumbra::testing::Report(static_cast<bool>(cond), __FILE__, __LINE__, #cond)

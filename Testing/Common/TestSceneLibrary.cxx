@@ -158,7 +158,7 @@ void CheckCommon(const std::string& name, const Scene& scene)
   }
 }
 
-void TestCornell()
+PENUMBRA_TEST(TestCornell)
 {
   const Scene scene = MakeBuiltinScene("cornell");
   CheckCommon("cornell", scene);
@@ -355,7 +355,7 @@ std::vector<Vec3> LightSamples(const std::vector<Vec3>& light)
   return samples;
 }
 
-void TestPaperScenes()
+PENUMBRA_TEST(TestPaperScenes)
 {
   // strip: floor 4 x 4, strip 3 x 0.1 at height 1.
   const double strip = CheckPaperScene("strip", { 16.0, 0.3 });
@@ -482,7 +482,8 @@ void TestPaperScenes()
 
 } // namespace
 
-int main()
+// The list of built-in scenes, the checks common to all, unknown names.
+PENUMBRA_TEST(TestBuiltinList)
 {
   const std::vector<BuiltinSceneInfo> list = ListBuiltinScenes();
   PENUMBRA_EXPECT(list.size() == 5);
@@ -500,7 +501,4 @@ int main()
     PENUMBRA_EXPECT_THROW(MakeBuiltinScene("nope"), InputError, name);
   }
   PENUMBRA_EXPECT_THROW(MakeBuiltinScene("nope"), InputError, "unknown built-in scene 'nope'");
-  TestCornell();
-  TestPaperScenes();
-  return penumbra::testing::Result();
 }
