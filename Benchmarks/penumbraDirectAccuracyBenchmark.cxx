@@ -16,10 +16,9 @@
 //                    constraints, linear (the classic radiosity result)
 //   uniform+cubic    the same grid, Clough-Tocher
 //
-// Build (from the source tree, after building the core with CMake):
-//   g++ -std=c++17 -O2 -IFilters/Core -Ibuild/Filters/Core
-//     Benchmarks/penumbraDirectAccuracyBenchmark.cxx -Lbuild/lib -lpenumbraCore
-//     -Wl,-rpath,$PWD/build/lib -pthread -o build/penumbraDirectAccuracyBenchmark
+// Built with the project (PENUMBRA_BUILD_BENCHMARKS, on by default) as
+// build/bin/penumbraDirectAccuracyBenchmark; the build flags are the project's (no -march=native,
+// so that the numbers describe a portable build).
 // Usage: penumbraDirectAccuracyBenchmark [relative tolerance, default 0.002]
 //   [threads, default 1] [interior events 0/1, default 1]
 #include "penumbraAdaptiveSampler.h"

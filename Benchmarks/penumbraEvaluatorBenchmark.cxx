@@ -3,12 +3,9 @@
 // form factors without occlusion, and exact visibility with 1, 7 and 30
 // occluders in the pyramid from the receiving points to the light.
 //
-// Build (from the source tree, no CMake needed; -march=native is avoided on
-// purpose so that the numbers describe a portable build):
-//   g++ -std=c++17 -O2 -march=x86-64-v2 -IFilters/Core -I<dir with penumbraCoreModule.h>
-//     Benchmarks/penumbraEvaluatorBenchmark.cxx Filters/Core/penumbraScene.cxx
-//     Filters/Core/penumbraFormFactor.cxx Filters/Core/penumbraOccluderSet.cxx
-//     Filters/Core/penumbraExactEvaluator.cxx -o penumbraEvaluatorBenchmark
+// Built with the project (PENUMBRA_BUILD_BENCHMARKS, on by default) as
+// build/bin/penumbraEvaluatorBenchmark; the build flags are the project's (no -march=native,
+// so that the numbers describe a portable build).
 // Usage: penumbraEvaluatorBenchmark [seconds per row, default 1]
 // Rates are per second of this thread's CPU time (best of several rounds), so
 // that other processes sharing the machine distort them as little as possible.

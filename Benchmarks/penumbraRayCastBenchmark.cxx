@@ -10,15 +10,9 @@
 // linear-source irradiance of one triangle (penumbraLinearSource.h), and the
 // exact irradiance of a non-uniform shooter behind an occluder.
 //
-// Build (from the source tree, no CMake needed; no -march=native, so that the
-// numbers describe a portable build):
-//   g++ -std=c++17 -O2 -IFilters/Core -I<dir with penumbraCoreModule.h>
-//     Benchmarks/penumbraRayCastBenchmark.cxx Filters/Core/penumbraScene.cxx
-//     Filters/Core/penumbraSceneLibrary.cxx Filters/Core/penumbraFormFactor.cxx
-//     Filters/Core/penumbraShooterRadiance.cxx Filters/Core/penumbraLinearSource.cxx
-//     Filters/Core/penumbraOccluderSet.cxx Filters/Core/penumbraExactEvaluator.cxx
-//     Filters/Core/penumbraRayCastEvaluator.cxx -lembree3 -ltbb -lpthread
-//     -o penumbraRayCastBenchmark
+// Built with the project (PENUMBRA_BUILD_BENCHMARKS, on by default) as
+// build/bin/penumbraRayCastBenchmark; the build flags are the project's (no -march=native,
+// so that the numbers describe a portable build).
 // Usage: penumbraRayCastBenchmark [rounds, default 3]
 // Rates are the best of the rounds, per wall-clock second and per CPU second
 // (summed over threads): on a shared machine the wall-clock 2-thread rows are

@@ -9,7 +9,7 @@
 // - direct light with the exact evaluator on the "seven" and "blind" floors:
 //   error of the Clough-Tocher reconstruction at 20000 independent random
 //   points against exact values, and against a uniform grid with linear
-//   interpolation at the same sample count (issue 5's accuracy targets).
+//   interpolation at the same sample count (the direct-light accuracy targets).
 #include "penumbraAdaptiveSampler.h"
 #include "penumbraDiscontinuityMesher.h"
 #include "penumbraExactEvaluator.h"
@@ -707,7 +707,7 @@ PENUMBRA_TEST(TestMesherMeshes)
   }
 }
 
-// Issue 5's accuracy targets on direct light: error of the Clough-Tocher
+// The accuracy targets on direct light: error of the Clough-Tocher
 // reconstruction of the adaptive samples at 20000 random floor points
 // against the exact values, relative to the floor's mean radiance; a
 // uniform grid with linear interpolation at the same sample count; and the
@@ -819,7 +819,7 @@ PENUMBRA_TEST(TestDirectAccuracy)
       100 * cubic.P99, 100 * cubic.Max, 100 * linear.Rms, 100 * linear.P99, 100 * linear.Max,
       uniform.Statistics.Samples, 100 * grid.Rms, 100 * grid.P99, 100 * grid.Max,
       grid.Rms / cubic.Rms, 100 * coverage, ratio);
-    // Targets of issue 5.
+    // The direct-light accuracy targets.
     if (c.AccuracyTargets)
     {
       PENUMBRA_EXPECT(cubic.Rms <= 1e-3);

@@ -8,7 +8,7 @@
 # Python.*). The Python tests are left out: Debian's python3 is not
 # instrumented, so the package would need the ASan runtime preloaded into the
 # interpreter, which reports CPython's own leaks.
-# Too slow for CI on 2 cores (see README, Testing); run it on demand.
+# Too slow for CI on 2 cores (see Documentation/contributing.md); run it on demand.
 set -euo pipefail
 
 source_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
