@@ -1,0 +1,127 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Estimated radiance jumps of shadow boundaries, and their bounds.
+#include "penumbraJumpThreshold.h"
+
+#include "penumbraFormFactor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace penumbra
+{
+namespace detail
+{
+
+namespace
+{
+
+// The form factor from point x of the receiver to a polygon (either side of
+// it with `twoSided`).
+double FormFactor(const SceneTopology& topology, const PolygonData& rec, const Vec3& x,
+  int polygon, bool twoSided)
+{
+  const std::vector<Vec3>& v = topology.Polygons[polygon].V;
+  double f = PointPolygonFormFactorClipped(x, rec.N, v);
+  if (twoSided)
+  {
+    std::vector<Vec3> reversed(v.rbegin(), v.rend());
+    f = std::max(f, PointPolygonFormFactorClipped(x, rec.N, reversed));
+  }
+  return f;
+}
+
+} // namespace
+
+double JumpRadiance(const Scene& scene, const DiscontinuityMeshSettings& settings, int shooter)
+{
+  if (!settings.ShooterRadiance.empty())
+  {
+    for (std::size_t k = 0; k < settings.Shooters.size(); ++k)
+    {
+      if (settings.Shooters[k] == shooter)
+      {
+        return settings.ShooterRadiance[k].Mean();
+      }
+    }
+  }
+  return scene.Surfaces[shooter].Emission.Mean();
+}
+
+double MinimumJump(const SceneTopology& topology, const Scene& scene, int receiverId,
+  const std::vector<int>& shooters, const DiscontinuityMeshSettings& settings)
+{
+  if (!(settings.JumpThreshold > 0.0))
+  {
+    return -1.0;
+  }
+  const PolygonData& rec = topology.Polygons[receiverId];
+  std::vector<Vec3> samples = { rec.Centroid };
+  for (const Vec3& v : rec.V)
+  {
+    samples.push_back(v + 0.05 * (rec.Centroid - v));
+  }
+  double reference = 0.0;
+  for (const Vec3& x : samples)
+  {
+    double sum = 0.0;
+    for (int s : shooters)
+    {
+      if (s != receiverId)
+      {
+        sum += JumpRadiance(scene, settings, s) * FormFactor(topology, rec, x, s, false);
+      }
+    }
+    reference = std::max(reference, sum);
+  }
+  return reference > 0.0 ? settings.JumpThreshold * reference
+                         : std::numeric_limits<double>::infinity();
+}
+
+void DropFaintShadows(const SceneTopology& topology, const Scene& scene, int receiverId,
+  const DiscontinuityMeshSettings& settings, const ReceiverFrame& frame, double minimumJump,
+  std::size_t first, std::vector<Segment2>& segments)
+{
+  if (!(minimumJump >= 0.0 && segments.size() > first))
+  {
+    return;
+  }
+  const PolygonData& rec = topology.Polygons[receiverId];
+  std::size_t write = first;
+  for (std::size_t k = first; k < segments.size(); ++k)
+  {
+    const Segment2& s = segments[k];
+    bool keep = true;
+    if (s.SourceId >= 0 && s.Order > 0)
+    {
+      const Vec3 mid = frame.To3D({ 0.5 * (s.A[0] + s.B[0]), 0.5 * (s.A[1] + s.B[1]) });
+      const double fs = FormFactor(topology, rec, mid, s.SourceId, false);
+      double fo = s.OccluderA >= 0 ? FormFactor(topology, rec, mid, s.OccluderA, true) : fs;
+      if (s.OccluderB >= 0)
+      {
+        fo = std::min(fo, FormFactor(topology, rec, mid, s.OccluderB, true));
+      }
+      const double jump = JumpRadiance(scene, settings, s.SourceId) * std::min(fo, fs);
+      keep = jump >= minimumJump;
+    }
+    if (keep)
+    {
+      segments[write++] = s;
+    }
+  }
+  segments.resize(write);
+}
+
+double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double receiverRadius)
+{
+  double radius = 0.0;
+  for (const Vec3& v : p.V)
+  {
+    radius = std::max(radius, Length(v - p.Centroid));
+  }
+  const double d = Length(p.Centroid - receiver.Centroid) - radius - receiverRadius;
+  return d > 0.0 ? std::min(1.0, p.Area / (M_PI * d * d)) : 1.0;
+}
+
+} // namespace detail
+} // namespace penumbra
