@@ -28,19 +28,32 @@ constexpr double CollinearSine = 0.1;
 } // namespace
 
 //------------------------------------------------------------------------------
+// Other end w of `edge` from its end v, the unit direction (tu, tv) from v to
+// w; returns the edge's length.
+double Reconstruction::Internals::EdgeDirection(
+  int v, int edge, int& w, double& tu, double& tv) const
+{
+  w = this->EdgePoints[2 * edge] == v ? this->EdgePoints[2 * edge + 1] : this->EdgePoints[2 * edge];
+  const double* pv = this->P(v);
+  const double* pw = this->P(w);
+  const double L = std::hypot(pw[0] - pv[0], pw[1] - pv[1]);
+  tu = (pw[0] - pv[0]) / L;
+  tv = (pw[1] - pv[1]) / L;
+  return L;
+}
+
+//------------------------------------------------------------------------------
 // Derivative at point v along constrained edge `edge` (toward its other end),
 // from the values along the straight constrained line through v: a parabola
 // through three consecutive points (centred when the line continues through
 // v, else one-sided), else the mean over the two sides' fitted gradients.
 double Reconstruction::Internals::LineDerivative(int v, int edge, int channel) const
 {
-  const int w = this->EdgePoints[2 * edge] == v ? this->EdgePoints[2 * edge + 1]
-                                                 : this->EdgePoints[2 * edge];
+  int w;
+  double tu, tv;
+  const double L = this->EdgeDirection(v, edge, w, tu, tv);
   const double* pv = this->P(v);
   const double* pw = this->P(w);
-  const double L = std::hypot(pw[0] - pv[0], pw[1] - pv[1]);
-  const double tu = (pw[0] - pv[0]) / L;
-  const double tv = (pw[1] - pv[1]) / L;
   const double fv = this->Value(v, channel);
   const double fw = this->Value(w, channel);
 
@@ -56,13 +69,9 @@ double Reconstruction::Internals::LineDerivative(int v, int edge, int channel) c
       {
         continue;
       }
-      const int o = this->EdgePoints[2 * e] == from ? this->EdgePoints[2 * e + 1]
-                                                    : this->EdgePoints[2 * e];
-      const double* pf = this->P(from);
-      const double* po = this->P(o);
-      const double l = std::hypot(po[0] - pf[0], po[1] - pf[1]);
-      const double eu = (po[0] - pf[0]) / l;
-      const double ev = (po[1] - pf[1]) / l;
+      int o;
+      double eu, ev;
+      this->EdgeDirection(from, e, o, eu, ev);
       const double dot = eu * du + ev * dv;
       const double cross = std::abs(eu * dv - ev * du);
       if (dot > 0.0 && cross < CollinearSine && dot > bestDot)
@@ -168,14 +177,11 @@ void Reconstruction::Internals::EnforceLineContinuity()
     dirs.clear();
     values.clear();
     std::vector<int> merged;
-    const double* pv = this->P(v);
     for (int e : edges)
     {
-      const int w = this->EdgePoints[2 * e] == v ? this->EdgePoints[2 * e + 1]
-                                                 : this->EdgePoints[2 * e];
-      const double L = std::hypot(this->P(w)[0] - pv[0], this->P(w)[1] - pv[1]);
-      const double tu = (this->P(w)[0] - pv[0]) / L;
-      const double tv = (this->P(w)[1] - pv[1]) / L;
+      int w;
+      double tu, tv;
+      this->EdgeDirection(v, e, w, tu, tv);
       int into = -1;
       for (std::size_t j = 0; j < merged.size(); ++j)
       {

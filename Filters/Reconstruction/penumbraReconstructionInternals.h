@@ -100,6 +100,7 @@ struct Reconstruction::Internals
   void FitGradients();
 
   // penumbraLineContinuity.cxx
+  double EdgeDirection(int v, int edge, int& w, double& tu, double& tv) const;
   double LineDerivative(int v, int edge, int channel) const;
   void EnforceLineContinuity();
 
