@@ -2,103 +2,19 @@
 /**
  * @file penumbraAdaptiveSampler.h
  * @brief Adaptive supersampling of one receiver inside the regions bounded by
- * its discontinuities (Lischinski, Tampieri and Greenberg 1991, section 4:
- * "each region is then adaptively supersampled ... until the radiance
- * function across a subregion is approximately planar"), done in 2D on the
- * discontinuity mesh, judged against the reconstruction that will be
- * displayed (section 6).
+ * its discontinuities (Lischinski, Tampieri and Greenberg 1991, section 4),
+ * done in 2D on the discontinuity mesh and judged against the reconstruction
+ * that will be displayed (section 6); and a uniform baseline for comparisons.
  *
- * Method.
- * 1. The receiver's discontinuity mesh (ReceiverMesh) is put back into a
- *    constrained Delaunay triangulation in the receiver's plane (its points,
- *    every segment as a constraint with its order and source, the kept
- *    region given by its triangles). The radiance is evaluated at every
- *    point through a caller-supplied batch function.
- * 2. Pass after pass, the interpolant of the current samples is built
- *    (Reconstruction with AdaptiveSamplingSettings::Interpolant: Clough-
- *    Tocher by default, the scheme that is displayed) and every triangle is
- *    probed at candidate points: its three edge midpoints (a midpoint is
- *    shared by the two triangles of an edge and evaluated once; the 2D form
- *    of the paper's "new point in the middle of an interval"), and its
- *    centroid with ProbeCentroids. A candidate fails when, in some channel c,
- *      |value - interpolant| > tol_c = max(RelativeTolerance * ref_c,
- *                                          AbsoluteTolerance),
- *    ref_c being the receiver's mean radiance (area-weighted mean of the
- *    linear interpolant of the current samples, recomputed every pass): the
- *    error is thus relative to the receiver's brightness, not to the local
- *    value, so dark parts of a lit receiver are refined to the same absolute
- *    accuracy as bright ones, and AbsoluteTolerance is the floor for a
- *    receiver that is dark as a whole.
- * 3. In each triangle with a failing candidate that is at least
- *    MinimumFeatureSize wide, the failing edge midpoints are inserted (they
- *    split their edges: red-refinement-like, well-shaped pieces); if only
- *    the centroid fails, it is inserted. Why compare with the Clough-Tocher
- *    interpolant rather than test "approximately planar" (linear) as the
- *    paper does: the cubic is what is displayed, and on the benchmark floors
- *    (direct light, tolerance 0.002) refining against linear interpolation
- *    and displaying it needed 2.3 to 3.4 times the samples for about the
- *    same RMS error (0.06% of the mean), and the cubic over those linearly
- *    refined samples was worse (RMS 0.09% to 0.96%, maximum 6% to 47%: its
- *    overshoots are only caught by testing the cubic itself). A point
- *    inserted on a constrained
- *    edge splits it and both pieces keep every label (order, source); a
- *    centroid always lies inside its triangle, hence in its region, so no
- *    sample lands across a boundary from its region. The candidate's
- *    evaluation becomes the new sample (no evaluation is wasted).
- *    Insertions are taken by decreasing residual / tolerance, so when the
- *    MaximumSamples budget cuts a pass short the worst triangles go first.
- * 4. It stops when no candidate fails (or none can be inserted), at the
- *    budget, or after MaximumPasses. A final pass then probes the final
- *    mesh (new candidates cost evaluations; unchanged triangles reuse the
- *    values cached from earlier passes): its residuals, against the final
- *    interpolant, are returned as ErrorProbes for the error estimate (when
- *    sampling converged they are exactly the candidates that passed).
+ * Holds the evaluation function type (RadianceBatchFunction), the settings
+ * (AdaptiveSamplingSettings), the result and its statistics, and the entry
+ * points SampleReceiver and SampleReceiverUniform. The same mesh, settings
+ * and function give the same output, whatever order or thread count the
+ * function uses inside a batch; the functions are thread-safe and call the
+ * evaluation function only from the calling thread. Plain C++ with no VTK or
+ * CGAL type; the triangulation lives in the core's CGAL translation unit.
  *
- * Value discontinuities and boundaries. Points on order-0 lines are
- * duplicated, one copy per side (see ReceiverMesh). Each copy is evaluated
- * *inside its own side*: at the point moved along the bisector of its fan of
- * triangles (or, for a closed fan, toward the centroid of its triangle with
- * the largest angle at the point) by SideOffset times the receiver's
- * diameter (at most a quarter of its shortest edge; the bisector keeps a
- * point where a D1 line meets the outline at right angles, such as a
- * shooter's plane crossing the receiver, on that line), so an evaluator that
- * is discontinuous there (e.g. an occluder standing on the line, which from
- * a point in its plane casts no shadow) returns that side's limit. New
- * points on an order-0 edge are evaluated once per kept side, moved toward
- * the centroid of that side's triangle.
- * Points on the receiver's outline (order -1) are moved inside the same way:
- * a wall standing on the outline (the Cornell floor's) is otherwise hit from
- * its back side by points that rounding puts a few ulps outside, which then
- * see nothing. All other points are evaluated where they are.
- *
- * Cost: every evaluation is a candidate or becomes a sample; on the
- * benchmark floors the evaluations were 4.2 to 4.7 times the samples (the
- * candidates of the final, passing triangles included), and time beyond
- * the evaluations is dominated by rebuilding the interpolant each pass
- * (about 0.1 s per pass at 8000 samples).
- *
- * Determinism: everything runs on the calling thread in a fixed order, and
- * the evaluation function is called with batches of new points (one or two
- * per pass; it may evaluate them in parallel). The same mesh, settings and
- * function give the same output, whatever order or thread count the
- * function uses inside a batch. The functions are thread-safe (no shared
- * state); the evaluation function is only called from the calling thread.
- *
- * Singular points: where discontinuity lines of order 1 or 2 fan out from a
- * vertex inside one side (the contact corners of the Cornell blocks, where
- * penumbrae shrink to nothing) the radiance has no limit at the vertex; its
- * single value is the limit from the direction chosen above, and the
- * triangles around it stop refining at MinimumFeatureSize, relative to the
- * receiver or, near a small feature, to the feature (the residuals left
- * there are reported in the probes and in UnrefinedFailures).
- *
- * Also a uniform baseline for comparisons (SampleReceiverUniform): the same
- * receiver with about N samples on a square grid, triangulated with only the
- * receiver's boundary (outline and footprint edges) as constraints, as a
- * classic radiosity mesh would be, to be reconstructed linearly.
- *
- * Plain C++ with no VTK or CGAL type; the triangulation lives in the core's
- * CGAL translation unit.
+ * Design notes: Documentation/design/sampling.md
  */
 #ifndef penumbraAdaptiveSampler_h
 #define penumbraAdaptiveSampler_h

@@ -7,85 +7,14 @@
  * discontinuities, a jump across order-0 ones, non-negative everywhere;
  * resampling for display and an error estimate.
  *
- * Input. A SampleMesh: one receiver's samples in its own plane coordinates
- * (u, v), triangulated (counter-clockwise), with a value per point and
- * channel and the constrained edges labelled with their discontinuity order.
- * Value (order-0) discontinuities are represented by duplicated points: the
- * triangles on the two sides of a D0 line use different point ids at the same
- * position, so the mesh is cut there. Triangles meeting at an edge that is
- * shared by exactly two of them, is not constrained with order 1 (or 0, -1)
- * and is not cut form one *smooth region*; order-2 edges are smooth (C1).
+ * Holds the input (SampleMesh), the settings (ReconstructionOptions,
+ * ResampleOptions, ErrorEstimateOptions), the outputs and diagnostics
+ * (ReconstructionStatistics, ResampledMesh), the probe residuals an adaptive
+ * sampler may supply (ErrorProbes), and the Reconstruction class. Plain C++
+ * with no VTK or third-party type. A built Reconstruction is immutable: its
+ * const queries are thread-safe.
  *
- * Method (Mode CloughTocher).
- * 1. Gradients. Around each point the triangle fan is split into *sectors*
- *    by the order-1 edges and the mesh boundaries through the point (a
- *    point inside a region, or at the free end of a line, has one sector; a
- *    point on an order-1 line has one per side). Each sector gets its own
- *    gradient: a least-squares quadratic through the point's value fitted
- *    to the neighbours reachable without crossing a constraint (ring 1, and
- *    ring 2 when ring 1 has fewer than MinimumFitPoints points), rows
- *    weighted by the inverse distance: the 2D analogue of the paper's
- *    parabola through a point and its two neighbours. Exact for quadratics;
- *    falls back to a linear fit (then to a zero gradient) when the
- *    neighbours cannot determine a quadratic.
- * 2. Continuity across order-1 lines. Both sides must agree on the
- *    derivative along the line, so each sector gradient is projected (least
- *    change) onto the directional derivatives along the constrained edges
- *    bounding it, estimated per (point, edge) by a parabola through three
- *    consecutive points of the straight constrained line (centred, or
- *    one-sided at a line end or corner), else by the mean of the two sides'
- *    fits. Where two non-parallel lines bound a sector (a corner or a
- *    junction) this determines its gradient; the true one-sided gradients
- *    agree there too.
- * 3. Interpolant. Each triangle is split at its incentre into three cubic
- *    Bezier micro-triangles (Clough-Tocher) whose control net is set from
- *    the values and sector gradients of its corners; the derivative across
- *    each edge, along the edge normal, varies linearly between the values the
- *    end-point gradients give. Two triangles sharing a smooth edge use the
- *    same gradients there, so the interpolant is C1 across it; across an
- *    order-1 edge both sides use the same edge curve, so it is C0; across a
- *    cut it jumps. Quadratics are reproduced exactly. The incentre (rather
- *    than the centroid) makes every cross-boundary control point a convex
- *    combination of edge data, so the element stays bounded on slivers.
- * 4. Non-negativity. With zero gradients every control point is a convex
- *    combination of the corner values. Where a triangle's control net dips
- *    below zero (a sufficient test: a non-negative net gives a non-negative
- *    patch), the gradients of its three points are scaled toward zero by the
- *    largest common factor that makes the net non-negative. The factor is
- *    per point and channel, shared by all sectors of the point, so C1 inside
- *    regions and C0 across order-1 lines are kept. Repeated until every net
- *    is non-negative up to rounding (it terminates: a triangle whose
- *    corners all have zero gradients is non-negative). Rounding is a slack
- *    of 1e-12 of the largest of the channel's values and of the corners'
- *    values plus gradient times the triangle's size, the gradient being the
- *    largest over the point's sectors: the projections across order-1 lines
- *    mix the sectors' gradients, and a net of zeros next to a lit sector came
- *    out at -8e-18; repaired, that zeroed the lit sector's gradient too. What
- *    the slack lets through is clamped at evaluation, so non-negative samples
- *    always give a non-negative interpolant; a triangle with a negative
- *    sample (off contract) is kept above its smallest sample.
- *
- * Mode Linear is plain linear interpolation of the samples over each
- * triangle (for comparison; it has Mach bands).
- *
- * Error estimate. Each sector also keeps a local cubic model T: a weighted
- * least-squares cubic Taylor polynomial through the point's value, fitted
- * on a wider stencil of the same side (rings 2-3, at least 12 points; the
- * quadratic fit where that cannot determine a cubic). At a point x of
- * triangle t the model estimate is max over t's corners c of
- * |T_c(x) - I(x)|, I the interpolant. For a smooth function T_c is one
- * order more accurate than I (h^4 against h^3 for CloughTocher, h^2 for
- * Linear), so the estimate tends to the true error as the mesh is refined;
- * where the samples do not resolve the function (missed features,
- * curvature jumps across order-2 lines, gradients reduced by the positivity
- * repair) the corner models disagree with I and with each other and the
- * estimate grows. (The cheaper proxy |CloughTocher - Linear| has the wrong
- * order, h^2: it over-estimates more and more as the mesh is refined, and
- * under-estimates on coarse meshes.) See ErrorEstimateOptions for the
- * safety factors and the probe residuals an adaptive sampler may supply.
- *
- * Plain C++ with no VTK or third-party type (no Eigen either). A built
- * Reconstruction is immutable: its const queries are thread-safe.
+ * Design notes: Documentation/design/reconstruction.md
  */
 #ifndef penumbraReconstruction_h
 #define penumbraReconstruction_h
@@ -262,24 +191,16 @@ struct ErrorProbes
  *   max( ModelSafetyFactor * k_t * max_c |T_c(x) - I(x)|,
  *        ProbeSafetyFactor * max |probe residual of t| ),
  *
- * T_c the local cubic model of corner c (see the file documentation), I
- * the interpolant, and k_t = min(1, a / m) for a triangle with probes (1
- * without): a the largest |probe residual| of t, m the largest model term
- * max_c |T_c - I| at t's edge midpoints, where an adaptive sampler's probes
- * lie. The model is an extrapolation; the probes are measurements, so where
- * the model claims more error than was measured it is scaled down to the
- * measurement. (A corner model fitted across a curvature jump, e.g. an
- * umbra's outline, predicts errors inside the umbra where the radiance and
- * the interpolant are both exactly zero.) With PerTriangle the first term is replaced by its
- * maximum over t (more conservative, constant per triangle). An output point
- * of Resample gets the largest value over the input triangles holding it.
- * Measured with the default factors at 20000 random points per case, on
- * jittered grids (TestReconstruction: a smooth bump, an under-resolved
- * narrow bump, and a shadow with order-1 lines and an unlabelled curvature
- * jump) and random Delaunay meshes, 10^2 to 40^2 cells, both modes: the
- * pointwise estimate was at least the true error at 96% to 100% of the
- * points and 1.6 to 8.9 times it on average (2 to 5 where the function is
- * resolved); PerTriangle covered 99.5% to 100% at 2.5 to 12 times.
+ * T_c the local cubic model of corner c (a cubic Taylor polynomial fitted
+ * per sector), I the interpolant, and k_t = min(1, a / m) for a triangle
+ * with probes (1 without): a the largest |probe residual| of t, m the largest
+ * model term max_c |T_c - I| at t's edge midpoints, where an adaptive
+ * sampler's probes lie: where the model claims more error than was measured
+ * it is scaled down to the measurement. With PerTriangle the first term is
+ * replaced by its maximum over t (more conservative, constant per triangle).
+ * An output point of Resample gets the largest value over the input
+ * triangles holding it. The coverage measured with the default factors is
+ * in the design notes.
  */
 struct ErrorEstimateOptions
 {
