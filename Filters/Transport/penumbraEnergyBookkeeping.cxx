@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "penumbraEnergyBookkeeping.h"
+
+#include "penumbraSampleSet.h"
+#include "penumbraScene.h"
+
+#include <vector>
+
+namespace penumbra
+{
+
+namespace
+{
+
+constexpr double Pi = 3.141592653589793238462643383279502884;
+
+RGB Difference(const RGB& a, const RGB& b)
+{
+  return { a.R - b.R, a.G - b.G, a.B - b.B };
+}
+
+} // namespace
+
+void EnergyBookkeeping::Ensure(const Scene& scene, const SampleSet& samples)
+{
+  if (!this->Valid)
+  {
+    this->Energy = this->InitialEnergy(scene, samples);
+    this->Reference =
+      this->Emitted.Mean() > 0.0 ? this->Emitted.Mean() : this->Energy.InitialUnshot.Mean();
+    this->Valid = true;
+  }
+}
+
+ShootingEnergy EnergyBookkeeping::Get(const Scene& scene, const SampleSet& samples) const
+{
+  return this->Valid ? this->Energy : this->InitialEnergy(scene, samples);
+}
+
+double EnergyBookkeeping::ReferencePower(const SampleSet& samples) const
+{
+  if (this->Valid)
+  {
+    return this->Reference;
+  }
+  const double emitted = this->Emitted.Mean();
+  return emitted > 0.0 ? emitted : samples.TotalUnshotPower().Mean();
+}
+
+ShootingEnergy EnergyBookkeeping::InitialEnergy(const Scene& scene, const SampleSet& samples) const
+{
+  ShootingEnergy e;
+  e.Emitted = this->Emitted;
+  for (std::size_t i = 0; i < samples.Surfaces.size(); ++i)
+  {
+    const SurfaceSamples& s = samples.Surfaces[i];
+    if (s.Triangles.empty())
+    {
+      continue;
+    }
+    e.InitialUnshot += samples.UnshotPower[i];
+    // Reflected radiance received so far (direct light): Total - L^e.
+    const Surface& surface = scene.Surfaces[i];
+    std::vector<RGB> reflected(s.Total.size());
+    for (std::size_t k = 0; k < reflected.size(); ++k)
+    {
+      reflected[k] = Difference(s.Total[k], surface.Emission);
+    }
+    const RGB power = IntegrateLinear(s, samples.Areas[i], reflected) * Pi;
+    for (int c = 0; c < 3; ++c)
+    {
+      const double rho = surface.Reflectance[c];
+      if (rho > 0.0)
+      {
+        e.PriorAbsorbed[c] += (1.0 - rho) / rho * power[c];
+      }
+    }
+  }
+  e.PriorEscaped = Difference(Difference(e.Emitted, e.InitialUnshot), e.PriorAbsorbed);
+  e.Unshot = e.InitialUnshot;
+  return e;
+}
+
+void EnergyBookkeeping::AddReceived(ShotRecord& record, const RGB& incident, const RGB& rho)
+{
+  record.Incident += incident;
+  record.Absorbed += RGB(1.0 - rho.R, 1.0 - rho.G, 1.0 - rho.B) * incident;
+}
+
+void EnergyBookkeeping::CloseShot(ShotRecord& record, const SampleSet& samples)
+{
+  record.Escaped = Difference(record.Power, record.Incident);
+  this->Energy.ShotAbsorbed += record.Absorbed;
+  this->Energy.ShotEscaped += record.Escaped;
+  this->Energy.Unshot = samples.TotalUnshotPower();
+  record.UnshotAfter = this->Energy.Unshot.Mean();
+}
+
+} // namespace penumbra
+

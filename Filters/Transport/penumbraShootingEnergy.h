@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @file penumbraShootingEnergy.h
+ * @brief What a shot did and the energy bookkeeping of a run of shots:
+ * Emitted = Absorbed + Unshot + Escaped per channel, by construction
+ * (Documentation/design/transport.md, "Energy"). Shared by the progressive
+ * shooter and the standard radiosity baseline; penumbraEnergyBookkeeping.h
+ * computes them.
+ */
+#ifndef penumbraShootingEnergy_h
+#define penumbraShootingEnergy_h
+
+#include "penumbraVector.h"
+
+namespace penumbra
+{
+
+/// How a shot's irradiance was computed.
+enum class ShotMethod
+{
+  Exact = 0, ///< exact visibility + closed-form linear-source integrals
+  Fast = 1   ///< hierarchy of the shooter + one occlusion ray per node used
+};
+
+/// What one shot did. Powers are RGB, in watts (scene units squared times
+/// W m^-2).
+struct ShotRecord
+{
+  int Shooter = -1;                     ///< surface id of the shooter
+  ShotMethod Method = ShotMethod::Exact; ///< how E was computed
+  RGB Power;          ///< shot power: pi * integral of the shooter's unshot radiance
+  RGB Incident;       ///< power incident on the receivers' sample meshes
+  RGB Absorbed;       ///< part of Incident absorbed: sum of (1 - rho_i) * incident_i
+  RGB Escaped;        ///< Power - Incident: left the scene or lost to discretisation
+  int GroupSize = 1;  ///< surfaces shot together (GroupWeakShots); Shooter is the strongest
+  int Receivers = 0;  ///< receivers that exchange light with the shooter
+  long long Samples = 0;      ///< samples evaluated
+  long long Rays = 0;         ///< occlusion rays (fast method)
+  double Seconds = 0.0;       ///< wall-clock time of the shot
+  double UnshotAfter = 0.0;   ///< total unshot power (mean of RGB) after the shot
+};
+
+/**
+ * Energy bookkeeping of a run, per channel, in watts. The identity
+ * Emitted = Absorbed() + Unshot + Escaped() holds up to rounding by
+ * construction (see Documentation/design/transport.md, "Energy").
+ */
+struct ShootingEnergy
+{
+  RGB Emitted;        ///< pi * sum of L^e * area over ALL surfaces (Scene::EmittedPower)
+  RGB InitialUnshot;  ///< unshot power of the samples before the first shot
+  RGB PriorAbsorbed;  ///< absorbed by the direct pass, inferred from the reflected radiance
+  RGB PriorEscaped;   ///< Emitted - InitialUnshot - PriorAbsorbed
+  RGB ShotAbsorbed;   ///< absorbed during the shots
+  RGB ShotEscaped;    ///< escaped or lost during the shots
+  RGB Unshot;         ///< unshot power left
+
+  /// PriorAbsorbed + ShotAbsorbed.
+  RGB Absorbed() const { return this->PriorAbsorbed + this->ShotAbsorbed; }
+  /// PriorEscaped + ShotEscaped.
+  RGB Escaped() const { return this->PriorEscaped + this->ShotEscaped; }
+};
+
+} // namespace penumbra
+
+#endif
