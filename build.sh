@@ -61,6 +61,10 @@ if [ ! -f "$build_dir/build.ninja" ]; then
   cmake -S "$source_dir" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DPython3_EXECUTABLE=/usr/bin/python3
 fi
+if [ "$mode" = test ] && ! grep -q '^BUILD_TESTING:BOOL=ON' "$build_dir/CMakeCache.txt"; then
+  # A build folder configured without the tests (BUILD_TESTING=OFF) gets them.
+  cmake -S "$source_dir" -B "$build_dir" -DBUILD_TESTING=ON
+fi
 echo "== building"
 cmake --build "$build_dir"
 
