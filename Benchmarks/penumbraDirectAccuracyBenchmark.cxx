@@ -198,7 +198,7 @@ void RunCase(const char* sceneName, int light, double tolerance, int threads, bo
   const RadianceBatchFunction f = direct.Function();
 
   AdaptiveSamplingSettings settings;
-  settings.RelativeTolerance = tolerance;
+  settings.SamplingTolerance = tolerance;
   auto timed = [](auto&& run, double& seconds) {
     const auto start = std::chrono::steady_clock::now();
     auto r = run();

@@ -44,7 +44,7 @@ struct AdaptiveSamplingSettings
   /// Tolerance on |value - interpolant| at candidate points, relative to the
   /// receiver's mean radiance, per channel. [0.002], in [0, 1]; 0 means
   /// AbsoluteTolerance alone.
-  double RelativeTolerance = 0.002;
+  double SamplingTolerance = 0.002;
   /// Absolute floor of the tolerance, in the units of the values
   /// (W sr^-1 m^-2). [0], >= 0. With both tolerances 0, refinement stops
   /// only at the budget, the passes or the minimum edge length.
@@ -52,7 +52,7 @@ struct AdaptiveSamplingSettings
   /// Sample budget of the receiver: number of point copies (values),
   /// initial ones included. No insertion is made beyond it (the initial mesh
   /// is always kept whole). [200000], >= 1
-  int MaximumSamples = 200000;
+  int MaximumSamplesPerSurface = 200000;
   /// Minimum feature size, relative to the receiver's diameter (bounding-box
   /// diagonal): triangles narrower than this (smallest altitude) are not
   /// refined, nor edges shorter than it split. For a receiver narrower than
@@ -112,7 +112,7 @@ struct AdaptiveSamplingStatistics
                                ///< (narrower than MinimumFeatureSize, or budget/passes exhausted)
   int Irregularities = 0;      ///< input vertices merged / constraints crossing after
                                ///< rounding to the plane frame (0 for a valid mesh)
-  bool BudgetReached = false;  ///< MaximumSamples stopped refinement
+  bool BudgetReached = false;  ///< MaximumSamplesPerSurface stopped refinement
   bool Converged = false;      ///< the last pass found no failing refinable triangle
   double MaximumResidual = 0;  ///< largest |residual| / tol over the final probes
   double Seconds = 0;          ///< wall time, evaluation included

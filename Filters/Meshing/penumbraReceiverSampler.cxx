@@ -154,7 +154,8 @@ bool ReceiverSampler::Pass(int pass)
 
   // Requests from failing refinable triangles.
   const int current = static_cast<int>(rec.Snap.PointVertex.size());
-  const bool canInsert = pass < settings.MaximumPasses && current < settings.MaximumSamples;
+  const bool canInsert =
+    pass < settings.MaximumPasses && current < settings.MaximumSamplesPerSurface;
   int failing = 0;
   std::vector<Request> requests = this->CollectRequests(nt, canInsert, failing);
   this->AddOtherSides(requests);
@@ -324,9 +325,9 @@ void ReceiverSampler::UpdateTolerance()
   const Receiver& rec = this->Rec;
   const AdaptiveSamplingSettings& settings = this->Settings;
   const RGB mean = MeanRadiance(rec);
-  this->Tolerance = RGB(std::max(settings.RelativeTolerance * mean.R, settings.AbsoluteTolerance),
-    std::max(settings.RelativeTolerance * mean.G, settings.AbsoluteTolerance),
-    std::max(settings.RelativeTolerance * mean.B, settings.AbsoluteTolerance));
+  this->Tolerance = RGB(std::max(settings.SamplingTolerance * mean.R, settings.AbsoluteTolerance),
+    std::max(settings.SamplingTolerance * mean.G, settings.AbsoluteTolerance),
+    std::max(settings.SamplingTolerance * mean.B, settings.AbsoluteTolerance));
   this->Result.ReferenceRadiance = mean;
 }
 
@@ -477,7 +478,7 @@ void ReceiverSampler::StopConverged(int nt, bool canInsert, int current)
   stats.Converged = stats.UnrefinedFailures == 0;
   if (!canInsert)
   {
-    stats.BudgetReached = current >= settings.MaximumSamples;
+    stats.BudgetReached = current >= settings.MaximumSamplesPerSurface;
   }
   this->KeepProbes(nt);
 }
@@ -497,7 +498,7 @@ int ReceiverSampler::InsertRequests(std::vector<Request>& requests, int nt, int 
   std::sort(requests.begin(), requests.end(), [](const Request& a, const Request& b) {
     return a.Score != b.Score ? a.Score > b.Score : a.Order < b.Order;
   });
-  int budget = settings.MaximumSamples - current;
+  int budget = settings.MaximumSamplesPerSurface - current;
   int inserted = 0;
   previous.clear();
   previous.reserve(static_cast<std::size_t>(nt));

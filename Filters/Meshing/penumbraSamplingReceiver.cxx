@@ -49,17 +49,17 @@ P2 Frame::To2D(const Vec3& p) const
 void CheckSettings(const AdaptiveSamplingSettings& s)
 {
   auto bad = [](const std::string& what) { throw InputError("adaptive sampling: " + what); };
-  if (!(s.RelativeTolerance >= 0.0 && s.RelativeTolerance <= 1.0))
+  if (!(s.SamplingTolerance >= 0.0 && s.SamplingTolerance <= 1.0))
   {
-    bad("RelativeTolerance must be in [0, 1]");
+    bad("SamplingTolerance must be in [0, 1]");
   }
   if (!(s.AbsoluteTolerance >= 0.0) || !std::isfinite(s.AbsoluteTolerance))
   {
     bad("AbsoluteTolerance must be finite and >= 0");
   }
-  if (s.MaximumSamples < 1)
+  if (s.MaximumSamplesPerSurface < 1)
   {
-    bad("MaximumSamples must be >= 1");
+    bad("MaximumSamplesPerSurface must be >= 1");
   }
   if (!(s.MinimumFeatureSize >= 0.0 && s.MinimumFeatureSize <= 1.0))
   {

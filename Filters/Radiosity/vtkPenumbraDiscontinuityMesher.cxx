@@ -27,6 +27,20 @@
 
 vtkStandardNewMacro(vtkPenumbraDiscontinuityMesher);
 
+vtkPenumbraDiscontinuityMesher::vtkPenumbraDiscontinuityMesher()
+{
+  const penumbra::DiscontinuityMeshSettings defaults;
+  this->ShooterPowerFraction = defaults.ShooterPowerFraction;
+  this->MinimumAngle = defaults.MinimumAngle;
+  this->OccluderOccluderEvents = defaults.OccluderOccluderEvents;
+  this->InteriorEvents = defaults.InteriorEvents;
+  this->PlaneEvents = defaults.PlaneEvents;
+  this->Contacts = defaults.Contacts;
+  this->JumpThreshold = defaults.JumpThreshold;
+  this->ContactTolerance = defaults.ContactTolerance;
+  this->CullWedges = defaults.CullWedges;
+}
+
 void vtkPenumbraDiscontinuityMesher::AddShooterId(vtkIdType id)
 {
   this->ShooterIds.push_back(id);

@@ -154,21 +154,21 @@ public:
   ///@}
 
 protected:
-  vtkPenumbraDiscontinuityMesher() = default;
+  vtkPenumbraDiscontinuityMesher();
   ~vtkPenumbraDiscontinuityMesher() override = default;
 
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   std::vector<vtkIdType> ShooterIds;
-  double ShooterPowerFraction = 0.0;
-  double MinimumAngle = 0.0;
-  bool OccluderOccluderEvents = true;
-  bool InteriorEvents = false;
-  bool PlaneEvents = true;
-  bool Contacts = true;
-  double JumpThreshold = 0.0;
-  double ContactTolerance = 1e-6;
-  bool CullWedges = true;
+  double ShooterPowerFraction;
+  double MinimumAngle;
+  bool OccluderOccluderEvents;
+  bool InteriorEvents;
+  bool PlaneEvents;
+  bool Contacts;
+  double JumpThreshold;
+  double ContactTolerance;
+  bool CullWedges;
 
 private:
   vtkPenumbraDiscontinuityMesher(const vtkPenumbraDiscontinuityMesher&) = delete;

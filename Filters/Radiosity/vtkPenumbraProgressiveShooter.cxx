@@ -18,6 +18,7 @@
 
 #include "penumbraIndirectLevel.h"
 #include "penumbraProgressiveShooter.h"
+#include "penumbraTransportSettings.h"
 
 #include <algorithm>
 #include <memory>
@@ -28,6 +29,17 @@ vtkStandardNewMacro(vtkPenumbraProgressiveShooter);
 
 vtkPenumbraProgressiveShooter::vtkPenumbraProgressiveShooter()
 {
+  const penumbra::TransportSettings defaults;
+  this->UnshotFraction = defaults.Shooting.UnshotFraction;
+  this->MaximumShots = defaults.Shooting.MaximumShots;
+  this->ExactPowerFraction = defaults.Shooting.ExactPowerFraction;
+  this->OpeningAngle = defaults.Shooting.OpeningAngle;
+  this->CoarseShotFraction = defaults.Shooting.CoarseShotFraction;
+  this->GroupWeakShots = defaults.Shooting.GroupWeakShots;
+  this->GroupAcrossOrientations = defaults.Shooting.GroupAcrossOrientations;
+  this->ReuseTransport = defaults.Shooting.ReuseTransport;
+  this->ReceiverClusterSize = defaults.Shooting.ReceiverClusterSize;
+  this->MaximumIndirectSamples = static_cast<vtkIdType>(defaults.MaximumIndirectSamples);
   this->SetNumberOfInputPorts(2);
 }
 

@@ -66,9 +66,11 @@ public:
   ///@{
   /**
    * Shots whose power is at least this fraction of the emitted power are
-   * integrated exactly; weaker ones by the hierarchical ray-cast method.
-   * Default 0.05, range [0, 1] (0: every shot exact; 1: only shots as
-   * strong as all the emission).
+   * integrated exactly; weaker ones by the hierarchical ray-cast method,
+   * which resolves visibility per node of the shooter and so blurs the
+   * shadows a strong secondary shooter casts. Default 0.2, range [0, 1] (0:
+   * every shot exact; 1: only shots as strong as all the emission). The
+   * trade-off is measured in penumbra::ProgressiveShooterSettings.
    */
   vtkSetClampMacro(ExactPowerFraction, double, 0.0, 1.0);
   vtkGetMacro(ExactPowerFraction, double);
@@ -179,16 +181,16 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double UnshotFraction = 1e-3;
-  int MaximumShots = 10000;
-  double ExactPowerFraction = 0.05;
-  double OpeningAngle = 0.3;
-  double CoarseShotFraction = 0.003;
-  bool GroupWeakShots = true;
-  bool GroupAcrossOrientations = false;
-  bool ReuseTransport = true;
-  int ReceiverClusterSize = 16;
-  vtkIdType MaximumIndirectSamples = 100000;
+  double UnshotFraction;
+  int MaximumShots;
+  double ExactPowerFraction;
+  double OpeningAngle;
+  double CoarseShotFraction;
+  bool GroupWeakShots;
+  bool GroupAcrossOrientations;
+  bool ReuseTransport;
+  int ReceiverClusterSize;
+  vtkIdType MaximumIndirectSamples;
 
 private:
   vtkPenumbraProgressiveShooter(const vtkPenumbraProgressiveShooter&) = delete;

@@ -19,6 +19,7 @@
 #include "vtkSMPTools.h"
 
 #include "penumbraAdaptiveSampler.h"
+#include "penumbraEvaluationSettings.h"
 #include "penumbraDiscontinuityMesher.h"
 #include "penumbraExactEvaluator.h"
 #include "penumbraLinearSource.h"
@@ -93,6 +94,16 @@ std::vector<int> SampleSurfaces(vtkPolyData* samples, int numberOfSurfaces)
 
 vtkPenumbraRadianceEvaluator::vtkPenumbraRadianceEvaluator()
 {
+  const penumbra::EvaluationSettings defaults;
+  this->Method = static_cast<int>(defaults.Method);
+  this->RayCastTolerance = defaults.RayCast.Tolerance;
+  this->IncludeEmission = defaults.IncludeEmission;
+  this->AdaptiveSampling = defaults.AdaptiveSampling;
+  this->SamplingTolerance = defaults.Sampling.SamplingTolerance;
+  this->MaximumSamplesPerSurface = defaults.Sampling.MaximumSamplesPerSurface;
+  this->MaximumSamples = static_cast<vtkIdType>(defaults.MaximumSamples);
+  this->MaximumSampleSpacing = defaults.MaximumSampleSpacing;
+  this->MinimumFeatureSize = defaults.Sampling.MinimumFeatureSize;
   this->SetNumberOfInputPorts(3);
 }
 
@@ -302,8 +313,8 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples, 
   }
 
   penumbra::AdaptiveSamplingSettings settings;
-  settings.RelativeTolerance = self->GetSamplingTolerance();
-  settings.MaximumSamples = self->GetMaximumSamplesPerSurface();
+  settings.SamplingTolerance = self->GetSamplingTolerance();
+  settings.MaximumSamplesPerSurface = self->GetMaximumSamplesPerSurface();
   settings.MinimumFeatureSize = self->GetMinimumFeatureSize();
   settings.MaximumEdgeLength = self->GetMaximumSampleSpacing() * sceneDiagonal;
 
@@ -339,7 +350,7 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples, 
     return work[a]->second.Triangles.size() > work[b]->second.Triangles.size();
   });
   // Each surface's share of the scene budget, by area.
-  std::vector<int> budgets(work.size(), settings.MaximumSamples);
+  std::vector<int> budgets(work.size(), settings.MaximumSamplesPerSurface);
   if (self->GetMaximumSamples() > 0)
   {
     std::vector<double> areas(work.size(), 0.0);
@@ -391,7 +402,7 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples, 
             });
           };
         penumbra::AdaptiveSamplingSettings receiverSettings = settings;
-        receiverSettings.MaximumSamples = budgets[w];
+        receiverSettings.MaximumSamplesPerSurface = budgets[w];
         results[w] = penumbra::SampleReceiver(work[w]->second, evaluate, receiverSettings);
       }
       catch (const penumbra::InputError& e)

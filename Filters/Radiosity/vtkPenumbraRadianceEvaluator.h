@@ -212,15 +212,15 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int Method = EXACT;
-  double RayCastTolerance = 1e-3;
-  bool IncludeEmission = true;
-  bool AdaptiveSampling = true;
-  double SamplingTolerance = 0.002;
-  int MaximumSamplesPerSurface = 200000;
-  vtkIdType MaximumSamples = 500000;
-  double MaximumSampleSpacing = 1.0 / 32.0;
-  double MinimumFeatureSize = 1e-4;
+  int Method;
+  double RayCastTolerance;
+  bool IncludeEmission;
+  bool AdaptiveSampling;
+  double SamplingTolerance;
+  int MaximumSamplesPerSurface;
+  vtkIdType MaximumSamples;
+  double MaximumSampleSpacing;
+  double MinimumFeatureSize;
   std::vector<vtkIdType> ShooterIds;
 
 private:

@@ -28,6 +28,17 @@
 
 vtkStandardNewMacro(vtkPenumbraRadianceReconstructor);
 
+vtkPenumbraRadianceReconstructor::vtkPenumbraRadianceReconstructor()
+{
+  const penumbra::ReconstructionOptions interpolant;
+  const penumbra::ResampleOptions display;
+  this->Mode = interpolant.Mode == penumbra::ReconstructionMode::Linear ? LINEAR : CLOUGH_TOCHER;
+  this->EnforceNonNegativity = interpolant.EnforceNonNegativity;
+  this->SubdivisionLevel = display.SubdivisionLevel;
+  this->TargetEdgeLength = display.TargetEdgeLength;
+  this->ComputeErrorEstimate = display.ComputeErrorEstimate;
+}
+
 namespace
 {
 /// The cells of one surface, by kind (input cell ids and point ids).

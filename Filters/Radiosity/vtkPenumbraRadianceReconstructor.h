@@ -67,7 +67,9 @@ public:
   /**
    * Display resampling: each input triangle edge is divided into this many
    * pieces (level s gives s*s output triangles per input triangle). Default
-   * 4, range [1, 64]. Ignored when TargetEdgeLength is positive.
+   * 2, range [1, 64]. Ignored when TargetEdgeLength is positive. Higher levels
+   * follow the cubic interpolant more closely (see
+   * penumbra::ResampleOptions::SubdivisionLevel) for s*s times the output.
    */
   vtkSetClampMacro(SubdivisionLevel, int, 1, 64);
   vtkGetMacro(SubdivisionLevel, int);
@@ -103,16 +105,16 @@ public:
   ///@}
 
 protected:
-  vtkPenumbraRadianceReconstructor() = default;
+  vtkPenumbraRadianceReconstructor();
   ~vtkPenumbraRadianceReconstructor() override = default;
 
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int Mode = CLOUGH_TOCHER;
-  int SubdivisionLevel = 4;
-  double TargetEdgeLength = 0.0;
-  bool EnforceNonNegativity = true;
-  bool ComputeErrorEstimate = true;
+  int Mode;
+  int SubdivisionLevel;
+  double TargetEdgeLength;
+  bool EnforceNonNegativity;
+  bool ComputeErrorEstimate;
 
 private:
   vtkPenumbraRadianceReconstructor(const vtkPenumbraRadianceReconstructor&) = delete;

@@ -10,6 +10,13 @@
 
 vtkStandardNewMacro(vtkPenumbraSceneValidator);
 
+vtkPenumbraSceneValidator::vtkPenumbraSceneValidator()
+{
+  const penumbra::ValidationTolerances defaults;
+  this->PlanarityTolerance = defaults.Planarity;
+  this->DegeneracyTolerance = defaults.Degeneracy;
+}
+
 int vtkPenumbraSceneValidator::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {

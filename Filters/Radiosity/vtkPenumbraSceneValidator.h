@@ -55,13 +55,13 @@ public:
   vtkGetCharFromStdStringMacro(LastErrorMessage);
 
 protected:
-  vtkPenumbraSceneValidator() = default;
+  vtkPenumbraSceneValidator();
   ~vtkPenumbraSceneValidator() override = default;
 
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double PlanarityTolerance = 1e-6;
-  double DegeneracyTolerance = 1e-9;
+  double PlanarityTolerance;
+  double DegeneracyTolerance;
   std::string LastErrorMessage;
 
 private:

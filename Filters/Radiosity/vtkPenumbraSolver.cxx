@@ -1,24 +1,46 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkPenumbraSolver.h"
 
+#include "penumbraDiscontinuityMesher.h"
+#include "penumbraEvaluationSettings.h"
+#include "penumbraReconstruction.h"
+#include "penumbraTransportSettings.h"
+
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
-#include "vtkPenumbraDiscontinuityMesher.h"
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPolyData.h"
+#include "vtkPenumbraDiscontinuityMesher.h"
 #include "vtkPenumbraProgressiveShooter.h"
 #include "vtkPenumbraRadianceEvaluator.h"
 #include "vtkPenumbraRadianceReconstructor.h"
+#include "vtkPolyData.h"
 
 #include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkPenumbraSolver);
+
+vtkPenumbraSolver::vtkPenumbraSolver()
+{
+  // The stages' defaults: the solver composes them and changes none.
+  const penumbra::DiscontinuityMeshSettings meshing;
+  const penumbra::EvaluationSettings evaluation;
+  const penumbra::TransportSettings transport;
+  const penumbra::ResampleOptions display;
+  this->MinimumAngle = meshing.MinimumAngle;
+  this->SamplingTolerance = evaluation.Sampling.SamplingTolerance;
+  this->MaximumSamples = static_cast<vtkIdType>(evaluation.MaximumSamples);
+  this->UnshotFraction = transport.Shooting.UnshotFraction;
+  this->ExactPowerFraction = transport.Shooting.ExactPowerFraction;
+  this->ReuseTransport = transport.Shooting.ReuseTransport;
+  this->MaximumIndirectSamples = static_cast<vtkIdType>(transport.MaximumIndirectSamples);
+  this->SubdivisionLevel = display.SubdivisionLevel;
+}
 
 namespace
 {

@@ -61,9 +61,8 @@ public:
   /**
    * Secondary shots at least this fraction of the emitted power use the
    * exact method, weaker ones the hierarchical ray-cast method
-   * (vtkPenumbraProgressiveShooter::ExactPowerFraction). Default 1 (every secondary
-   * shot ray-cast: on the Cornell box it matched the exact method to 0.01%
-   * of the mean at a quarter of the time), range [0, 1].
+   * (vtkPenumbraProgressiveShooter::ExactPowerFraction). Default 0.2, range
+   * [0, 1].
    */
   vtkSetClampMacro(ExactPowerFraction, double, 0.0, 1.0);
   vtkGetMacro(ExactPowerFraction, double);
@@ -134,20 +133,20 @@ public:
   ///@}
 
 protected:
-  vtkPenumbraSolver() = default;
+  vtkPenumbraSolver();
   ~vtkPenumbraSolver() override = default;
 
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   bool Indirect = true;
-  double UnshotFraction = 1e-3;
-  double ExactPowerFraction = 1.0;
-  double SamplingTolerance = 0.002;
-  vtkIdType MaximumSamples = 500000;
-  vtkIdType MaximumIndirectSamples = 100000;
-  bool ReuseTransport = true;
-  double MinimumAngle = 0.0;
-  int SubdivisionLevel = 2;
+  double UnshotFraction;
+  double ExactPowerFraction;
+  double SamplingTolerance;
+  vtkIdType MaximumSamples;
+  vtkIdType MaximumIndirectSamples;
+  bool ReuseTransport;
+  double MinimumAngle;
+  int SubdivisionLevel;
 
 private:
   vtkPenumbraSolver(const vtkPenumbraSolver&) = delete;

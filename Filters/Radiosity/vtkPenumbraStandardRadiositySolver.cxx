@@ -21,6 +21,19 @@
 
 vtkStandardNewMacro(vtkPenumbraStandardRadiositySolver);
 
+vtkPenumbraStandardRadiositySolver::vtkPenumbraStandardRadiositySolver()
+{
+  const penumbra::StandardRadiositySettings defaults;
+  this->PatchSize = defaults.PatchSize;
+  this->ElementSize = defaults.ElementSize;
+  this->ShooterSamples = defaults.ShooterSamples;
+  this->SubdivisionThreshold = defaults.SubdivisionThreshold;
+  this->MaximumSubdivisionDepth = defaults.MaximumSubdivisionDepth;
+  this->UnshotFraction = defaults.UnshotFraction;
+  this->MaximumShots = defaults.MaximumShots;
+  this->FormFactorMode = static_cast<int>(defaults.FormFactor);
+}
+
 int vtkPenumbraStandardRadiositySolver::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {

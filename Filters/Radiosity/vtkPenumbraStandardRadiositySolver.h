@@ -135,19 +135,19 @@ public:
   ///@}
 
 protected:
-  vtkPenumbraStandardRadiositySolver() = default;
+  vtkPenumbraStandardRadiositySolver();
   ~vtkPenumbraStandardRadiositySolver() override = default;
 
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double PatchSize = 0.5;
-  double ElementSize = 0.05;
-  int ShooterSamples = 4;
-  int FormFactorMode = ANALYTIC_VISIBILITY;
-  double SubdivisionThreshold = 0.2;
-  int MaximumSubdivisionDepth = 3;
-  double UnshotFraction = 1e-3;
-  int MaximumShots = 10000;
+  double PatchSize;
+  double ElementSize;
+  int ShooterSamples;
+  int FormFactorMode;
+  double SubdivisionThreshold;
+  int MaximumSubdivisionDepth;
+  double UnshotFraction;
+  int MaximumShots;
 
 private:
   vtkPenumbraStandardRadiositySolver(const vtkPenumbraStandardRadiositySolver&) = delete;

@@ -393,7 +393,7 @@ PENUMBRA_TEST(TestStep)
     return step(p) + 2.0 * std::exp(-(dx * dx + dy * dy) / 0.01);
   };
   AdaptiveSamplingSettings settings;
-  settings.RelativeTolerance = 1e-3;
+  settings.SamplingTolerance = 1e-3;
   const AdaptiveSamplingResult s = SampleReceiver(mesh, Batch(bumpStep), settings);
   PENUMBRA_EXPECT(s.Statistics.ConstrainedSplits > 0);
   int copiesOnLine = 0, wrongSide = 0;
@@ -453,7 +453,7 @@ PENUMBRA_TEST(TestBumpConvergence)
   for (double tolerance : { 1e-2, 3e-3, 1e-3, 3e-4, 1e-4 })
   {
     AdaptiveSamplingSettings settings;
-    settings.RelativeTolerance = tolerance;
+    settings.SamplingTolerance = tolerance;
     const AdaptiveSamplingResult r = SampleReceiver(mesh, Batch(bump), settings);
     const ErrorStats e =
       MeasureErrors(r, ReconstructionMode::CloughTocher, points, exact, mean);
@@ -490,7 +490,7 @@ PENUMBRA_TEST(TestLocalizedPassesMatchWholeRebuild)
     return 0.5 + std::exp(-(dx * dx + dy * dy) / 0.01) + 0.3 * std::sin(9.0 * p.X * p.Y);
   };
   AdaptiveSamplingSettings settings;
-  settings.RelativeTolerance = 1e-4;
+  settings.SamplingTolerance = 1e-4;
   const AdaptiveSamplingResult r = SampleReceiver(mesh, Batch(field), settings);
   PENUMBRA_EXPECT(r.Statistics.LocalizedPasses > 0);
   Reconstruction whole;
@@ -532,8 +532,8 @@ PENUMBRA_TEST(TestBudgetAndDeterminism)
     return 0.2 + std::exp(-(dx * dx + dy * dy) / 0.01);
   };
   AdaptiveSamplingSettings settings;
-  settings.RelativeTolerance = 1e-4;
-  settings.MaximumSamples = 200;
+  settings.SamplingTolerance = 1e-4;
+  settings.MaximumSamplesPerSurface = 200;
   const AdaptiveSamplingResult capped = SampleReceiver(mesh, Batch(bump), settings);
   PENUMBRA_EXPECT(capped.Statistics.BudgetReached);
   PENUMBRA_EXPECT(!capped.Statistics.Converged);
@@ -541,7 +541,7 @@ PENUMBRA_TEST(TestBudgetAndDeterminism)
   PENUMBRA_EXPECT(capped.Statistics.Samples > 150);
   PENUMBRA_EXPECT(capped.Probes.Triangles.size() == 3 * capped.Mesh.Triangles.size());
   PENUMBRA_EXPECT(capped.Statistics.MaximumResidual > 1.0); // the failures are reported
-  settings.MaximumSamples = 200000;
+  settings.MaximumSamplesPerSurface = 200000;
   settings.MaximumPasses = 2;
   const AdaptiveSamplingResult twoPasses = SampleReceiver(mesh, Batch(bump), settings);
   PENUMBRA_EXPECT(twoPasses.Statistics.Passes == 2);
@@ -549,7 +549,7 @@ PENUMBRA_TEST(TestBudgetAndDeterminism)
 
   // Same result whatever the evaluation order inside a batch.
   settings = AdaptiveSamplingSettings();
-  settings.RelativeTolerance = 1e-3;
+  settings.SamplingTolerance = 1e-3;
   settings.ProbeCentroids = true;
   const AdaptiveSamplingResult a = SampleReceiver(mesh, Batch(bump), settings);
   const RadianceBatchFunction reversed = [&](const Vec3* points, int count, RGB* values) {
@@ -626,7 +626,7 @@ PENUMBRA_TEST(TestMesherMeshes)
     const ReceiverMesh mesh = mesher.MeshReceiver(0, meshSettings);
     const DirectLight direct(scene, 0, cs.Light);
     AdaptiveSamplingSettings settings;
-    settings.RelativeTolerance = 0.01;
+    settings.SamplingTolerance = 0.01;
     const AdaptiveSamplingResult r = SampleReceiver(
       mesh, [&](const Vec3* p, int n, RGB* v) { direct(p, n, v); }, settings);
     const Vec3 normal(0, 1, 0);
@@ -814,7 +814,7 @@ PENUMBRA_TEST(TestDirectAccuracy)
                 "the adaptive one)\n"
                 "  error estimate >= actual error at %.1f%% of the points; mean estimate / "
                 "mean error %.2f\n",
-      c.Name, AdaptiveSamplingSettings().RelativeTolerance, adaptive.Statistics.Samples,
+      c.Name, AdaptiveSamplingSettings().SamplingTolerance, adaptive.Statistics.Samples,
       adaptive.Statistics.Evaluations, adaptive.Statistics.Passes, seconds, 100 * cubic.Rms,
       100 * cubic.P99, 100 * cubic.Max, 100 * linear.Rms, 100 * linear.P99, 100 * linear.Max,
       uniform.Statistics.Samples, 100 * grid.Rms, 100 * grid.P99, 100 * grid.Max,
@@ -978,7 +978,7 @@ PENUMBRA_TEST(TestSmallFeatureIsResolved)
   const double reference = r.ReferenceRadiance.R;
   const ErrorStats e =
     MeasureErrors(r, ReconstructionMode::CloughTocher, points, exact, reference);
-  const double tolerance = AdaptiveSamplingSettings().RelativeTolerance;
+  const double tolerance = AdaptiveSamplingSettings().SamplingTolerance;
   std::printf("feature 1e-4 of the receiver: %d -> %d samples, %d passes, converged %d; "
               "around it error max %.2e, RMS %.2e of the mean (tolerance %.0e)\n",
     r.Statistics.InitialSamples, r.Statistics.Samples, r.Statistics.Passes,
@@ -1093,14 +1093,14 @@ PENUMBRA_TEST(TestBadInput)
   const ReceiverMesh mesh = StripMesh({ 0.5 }, { 1 }, 1);
   const auto f = Batch([](const Vec3&) { return 1.0; });
   AdaptiveSamplingSettings bad;
-  bad.RelativeTolerance = -1.0;
-  PENUMBRA_EXPECT_THROW(SampleReceiver(mesh, f, bad), InputError, "RelativeTolerance");
+  bad.SamplingTolerance = -1.0;
+  PENUMBRA_EXPECT_THROW(SampleReceiver(mesh, f, bad), InputError, "SamplingTolerance");
   bad = AdaptiveSamplingSettings();
   bad.SideOffset = 0.0;
   PENUMBRA_EXPECT_THROW(SampleReceiver(mesh, f, bad), InputError, "SideOffset");
   bad = AdaptiveSamplingSettings();
-  bad.MaximumSamples = 0;
-  PENUMBRA_EXPECT_THROW(SampleReceiver(mesh, f, bad), InputError, "MaximumSamples");
+  bad.MaximumSamplesPerSurface = 0;
+  PENUMBRA_EXPECT_THROW(SampleReceiver(mesh, f, bad), InputError, "MaximumSamplesPerSurface");
   PENUMBRA_EXPECT_THROW(SampleReceiver(ReceiverMesh(), f), InputError, "no triangle");
   PENUMBRA_EXPECT_THROW(SampleReceiver(mesh, RadianceBatchFunction()), InputError, "function");
   ReceiverMesh broken = mesh;

@@ -23,18 +23,26 @@ def test_python_cornell_example(tmp_path):
 
 
 def test_readme_python_snippet_is_the_example():
-    """The README quotes Examples/Python/cornell_scene.py; keep them in step."""
+    """The README quotes Examples/Python/solve_cornell.py; keep them in step."""
     readme = open(os.path.join(SOURCE_DIR, "README.md")).read()
-    example = open(os.path.join(SOURCE_DIR, "Examples", "Python", "cornell_scene.py")).read()
+    example = open(os.path.join(SOURCE_DIR, "Examples", "Python", "solve_cornell.py")).read()
     body = example.split('"""', 2)[2].strip()
     assert body in readme
 
 
+def _code_block(text, language):
+    return text.split("```%s\n" % language, 1)[1].split("```", 1)[0]
+
+
 def test_readme_cxx_snippet_is_the_example():
-    """The README quotes Examples/Cxx/PenumbraExample.cxx (built by test_install)."""
+    """The README's C++ block is a contiguous excerpt of Examples/Cxx/PenumbraExample.cxx
+    (built and run by test_install)."""
     readme = open(os.path.join(SOURCE_DIR, "README.md")).read()
     source = open(os.path.join(SOURCE_DIR, "Examples", "Cxx", "PenumbraExample.cxx")).read()
-    assert source[source.index('#include "vtkNew.h"'):].strip() in readme
+    excerpt = [line.strip() for line in _code_block(readme, "cpp").splitlines() if line.strip()]
+    lines = [line.strip() for line in source.splitlines()]
+    starts = [k for k in range(len(lines)) if lines[k:k + len(excerpt)] == excerpt]
+    assert excerpt and starts, "the README's C++ block is not in the example"
 
 
 def test_readme_commands_match_ci():
@@ -57,12 +65,17 @@ def test_python_compose_filters_example(tmp_path):
     assert reader.GetOutput().GetPointData().GetArray("Radiance") is not None
 
 
-def test_readme_solve_snippet_runs():
+def test_readme_solve_snippet_runs(tmp_path):
     readme = open(os.path.join(SOURCE_DIR, "README.md")).read()
     blocks = [b.split("```", 1)[0] for b in readme.split("```python\n")[1:]]
     snippet = [b for b in blocks if "penumbra.solve(" in b]
     assert snippet, "the README shows penumbra.solve"
-    result = subprocess.run([sys.executable, "-c", snippet[0]], stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, universal_newlines=True, timeout=300)
+    result = subprocess.run([sys.executable, "-c", snippet[0], str(tmp_path / "cornell.vtp")],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            universal_newlines=True, timeout=300, cwd=str(tmp_path))
     assert result.returncode == 0, result.stdout
     assert "triangles" in result.stdout
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(str(tmp_path / "cornell.vtp"))
+    reader.Update()
+    assert reader.GetOutput().GetPointData().GetArray("Radiance") is not None
