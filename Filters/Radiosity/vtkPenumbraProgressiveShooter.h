@@ -68,8 +68,9 @@ public:
    * Shots whose power is at least this fraction of the emitted power are
    * integrated exactly; weaker ones by the hierarchical ray-cast method,
    * which resolves visibility per node of the shooter and so blurs the
-   * shadows a strong secondary shooter casts. Default 0.2, range [0, 1] (0:
-   * every shot exact; 1: only shots as strong as all the emission). The
+   * shadows a strong secondary shooter casts onto a dim surface, but costs a
+   * small fraction of an exact shot on large meshes. Default 1, range [0, 1]
+   * (0: every shot exact; 1: only shots as strong as all the emission). The
    * trade-off is measured in penumbra::ProgressiveShooterSettings.
    */
   vtkSetClampMacro(ExactPowerFraction, double, 0.0, 1.0);

@@ -61,7 +61,7 @@ public:
   /**
    * Secondary shots at least this fraction of the emitted power use the
    * exact method, weaker ones the hierarchical ray-cast method
-   * (vtkPenumbraProgressiveShooter::ExactPowerFraction). Default 0.2, range
+   * (vtkPenumbraProgressiveShooter::ExactPowerFraction). Default 1, range
    * [0, 1].
    */
   vtkSetClampMacro(ExactPowerFraction, double, 0.0, 1.0);

@@ -55,17 +55,18 @@ struct ProgressiveShooterSettings
   int MaximumShots = 10000;
   /// Shots whose power (mean of RGB) is at least this fraction of the
   /// reference power use ShotMethod::Exact, weaker ones ShotMethod::Fast.
-  /// The fast method resolves visibility per node of the shooter's
-  /// hierarchy, so a strong secondary shooter whose shadows fall on a dimly
-  /// lit surface needs the exact one: a floor lit only by a half-lit panel
-  /// over a baffle is 127% RMS off with every secondary shot fast, 0.13%
-  /// with 0.2. An exact shot costs about the shooter's triangles times the
-  /// receiving points: 0.05 makes the Cornell box 16 times slower (70 s
-  /// against 4.4 s) for 0.42% against 0.51% RMS; 0.2 changes nothing there
-  /// and costs 3.7 times on the venetian blind (4.1 s against 1.1 s, same
-  /// error); see Documentation/benchmarks.md. [0.2], in [0, inf]: 0 = every
-  /// shot exact, infinity = every shot fast.
-  double ExactPowerFraction = 0.2;
+  /// An exact shot costs about the shooter's triangles times the receiving
+  /// points, the fast one about its hierarchy's cut: at 0.05 the Cornell box
+  /// takes 70 s instead of 4.4 s (0.42% against 0.51% RMS against the path-
+  /// traced reference), at 0.2 a room of 100 boxes over 845 s instead of
+  /// 55 s. The fast method resolves visibility per node of the shooter's
+  /// hierarchy, so the shadows a strong secondary shooter casts onto a dim
+  /// surface come out blurred: a floor lit only by a half-lit panel over a
+  /// baffle is 127% RMS off at 1 and 0.13% at 0.2
+  /// (Benchmarks/defaults_benchmark.py; Documentation/benchmarks.md).
+  /// [1], in [0, inf]: 0 = every shot exact, 1 = only shots as strong as
+  /// all the emission, infinity = every shot fast.
+  double ExactPowerFraction = 1.0;
   /// Fast method: a node of the shooter's hierarchy is used whole (one
   /// multipole expansion) when its radius is below this times its distance
   /// from the sample. Smaller is more accurate and slower (the number of
