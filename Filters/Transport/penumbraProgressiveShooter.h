@@ -62,7 +62,7 @@ struct ProgressiveShooterSettings
   /// 55 s. The fast method resolves visibility per node of the shooter's
   /// hierarchy, so the shadows a strong secondary shooter casts onto a dim
   /// surface come out blurred: a floor lit only by a half-lit panel over a
-  /// baffle is 127% RMS off at 1 and 0.13% at 0.2
+  /// baffle is 127% RMS off at 1 and 0.13% at 0.2 (display subdivision 4)
   /// (Benchmarks/defaults_benchmark.py; Documentation/benchmarks.md).
   /// [1], in [0, inf]: 0 = every shot exact, 1 = only shots as strong as
   /// all the emission, infinity = every shot fast.
