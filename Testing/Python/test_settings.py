@@ -109,3 +109,11 @@ def test_command_line_help_shows_the_filters_defaults():
     unshot = penumbra.vtkPenumbraSolver().GetUnshotFraction()
     element = penumbra.vtkPenumbraStandardRadiositySolver().GetElementSize()
     assert "(default %g)" % unshot in out and "(default %g)" % element in out, out
+
+
+@pytest.mark.parametrize("class_name", S.FILTERS)
+def test_print_self_prints_every_setting(class_name):
+    instance = getattr(penumbra, class_name)()
+    printed = str(instance)
+    missing = [s.name for s in S.filter_settings(class_name) if "%s:" % s.name not in printed]
+    assert not missing, "%s::PrintSelf omits %s" % (class_name, ", ".join(missing))
