@@ -87,7 +87,7 @@ def main():
     if args.child is not None:
         settings = {}
         if args.indirect_samples is not None:
-            settings["indirect_samples"] = args.indirect_samples
+            settings["maximum_indirect_samples"] = args.indirect_samples
         if args.no_reuse:
             settings["reuse_transport"] = False
         run_child(args.child, args.threads, args.seed, settings)

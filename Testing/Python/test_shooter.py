@@ -177,7 +177,7 @@ def test_coarse_level_converges_to_every_sample_on_cornell():
 
 
 def test_solve_passes_the_large_scene_settings():
-    """penumbra.solve(indirect_samples=, reuse_transport=) reaches the
+    """penumbra.solve(maximum_indirect_samples=, reuse_transport=) reaches the
     shooter: the furnace is shot on at most that many points, in fewer shots
     when the six walls (six orientations) are swept together through the
     recorded transport, and both still give L = L^e / (1 - rho)."""
@@ -185,7 +185,7 @@ def test_solve_passes_the_large_scene_settings():
     shots = {}
     for across in (False, True):
         result = penumbra.solve(furnace(rho, le), unshot_fraction=1e-6, exact_power_fraction=0.05,
-                                indirect_samples=60, reuse_transport=across)
+                                maximum_indirect_samples=60, reuse_transport=across)
         assert 0 < field(result, "IndirectSamples")[0] <= 60
         radiance = vtk_to_numpy(result.GetPointData().GetArray("Radiance"))
         worst = np.abs(radiance / (le / (1 - rho)) - 1).max()

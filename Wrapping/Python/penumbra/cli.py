@@ -95,17 +95,17 @@ def _command_solve(args):
     def progress(stage, fraction):
         bar.update(fraction, stage)
 
-    standard_settings = {}
+    settings = {"unshot_fraction": args.unshot_fraction}
     if args.method == "standard":
         if args.direct_only:
             return _fail("--direct-only applies to the discontinuity method only")
-        if args.element_size is not None:
-            standard_settings["element_size"] = args.element_size
+        settings["element_size"] = args.element_size
     elif args.element_size is not None:
         return _fail("--element-size applies to --method standard only")
-    result = penumbra.solve(args.scene, threads=args.threads, indirect=not args.direct_only,
-                            unshot_fraction=args.unshot, progress=progress, method=args.method,
-                            **standard_settings)
+    else:
+        settings["indirect"] = not args.direct_only
+    result = penumbra.solve(args.scene, threads=args.threads, progress=progress,
+                            method=args.method, **settings)
     writer = vtkXMLPolyDataWriter()
     writer.SetFileName(args.output)
     writer.SetInputData(result)
@@ -199,7 +199,8 @@ def build_parser():
                             % (element_size[1], element_size[2], element_size[0]))
     solve.add_argument("--direct-only", action="store_true",
                        help="direct light only (no progressive shooting)")
-    solve.add_argument("--unshot", type=_in_range(penumbra.vtkPenumbraSolver, "UnshotFraction"),
+    solve.add_argument("--unshot-fraction", "--unshot", dest="unshot_fraction",
+                       type=_in_range(penumbra.vtkPenumbraSolver, "UnshotFraction"),
                        default=None, metavar="F",
                        help="stop shooting when the unshot power is below F times the "
                             "emitted power, in [%g, %g] (default %g)"

@@ -7,8 +7,6 @@ the standard radiosity baseline instead (vtkPenumbraStandardRadiositySolver: sam
 contract, no `RadianceErrorEstimate`)."""
 
 METHODS = ("discontinuity", "standard")
-STANDARD_SETTINGS = ("element_size", "patch_size", "subdivision_threshold",
-                     "maximum_subdivision_depth", "shooter_samples", "form_factor")
 from vtkmodules.vtkCommonDataModel import vtkPolyData
 
 
@@ -101,30 +99,50 @@ def build_standard(scene_port, unshot_fraction=None, element_size=None, patch_si
     return {"standard": solver}
 
 
-def solve(scene, threads=None, minimum_angle=None, subdivision_level=None, indirect=True,
-          unshot_fraction=None, exact_power_fraction=None, progress=None,
-          method="discontinuity", indirect_samples=None, reuse_transport=None,
-          **standard_settings):
+def setting_names(class_name):
+    """{snake_case name: filter setting name} of a filter's settings, e.g.
+    {"exact_power_fraction": "ExactPowerFraction", ...}: the Python spelling of
+    the filters' names."""
+    import re
+
+    from penumbra import settings
+
+    return {re.sub(r"(?<!^)(?=[A-Z])", "_", s.name).lower(): s.name
+            for s in settings.filter_settings(class_name)}
+
+
+def apply_settings(algorithm, class_name, values):
+    """Set `values` ({snake_case name: value}; None keeps the default) on a filter,
+    rejecting names it does not have."""
+    import penumbra
+
+    names = setting_names(class_name)
+    unknown = sorted(set(values) - set(names))
+    if unknown:
+        raise penumbra.PenumbraError("%s: not a setting of %s (its settings: %s)"
+                                     % (", ".join(unknown), class_name,
+                                        ", ".join(sorted(names))))
+    for key, value in values.items():
+        if value is not None:
+            getattr(algorithm, "Set" + names[key])(value)
+
+
+def solve(scene, threads=None, progress=None, method="discontinuity", **settings):
     """Solve `scene` (a built-in name, a .vtp/.obj path, or a scene vtkPolyData).
 
-    threads: worker threads (default: all cores). indirect: run the
-    progressive shooter for interreflections (False: direct light only);
-    unshot_fraction: stop shooting when the unshot power is below this
-    fraction of the emitted power. indirect_samples: largest number of
-    points the interreflections are shot onto (more samples: a coarse
-    level, vtkPenumbraSolver::MaximumIndirectSamples);
-    reuse_transport: weak shots as Jacobi sweeps through a transport
-    recorded once (vtkPenumbraSolver::ReuseTransport, default on). Settings
-    left None keep the defaults of vtkPenumbraSolver (or
-    vtkPenumbraStandardRadiositySolver). progress: a callable
-    progress(stage_name, fraction) called as the solve runs (fraction of
-    the whole solve, from 0 to 1). method:
-    "discontinuity" (the default, the paper's method) or "standard" (the
-    baseline: uniform mesh, progressive refinement, adaptive subdivision;
-    `indirect` must then be True, and standard_settings may set
-    element_size, patch_size, subdivision_threshold,
-    maximum_subdivision_depth, shooter_samples and form_factor, see
-    build_standard).
+    threads: worker threads (default: all cores). progress: a callable
+    progress(stage_name, fraction) called as the solve runs (fraction of the
+    whole solve, from 0 to 1). method: "discontinuity" (the default, the
+    paper's method, vtkPenumbraSolver) or "standard" (the baseline:
+    vtkPenumbraStandardRadiositySolver; it always computes the
+    interreflections).
+
+    settings: any setting of that filter under its snake_case name, e.g.
+    indirect=False (direct light only), unshot_fraction=1e-4,
+    exact_power_fraction=0.2, maximum_indirect_samples=400000,
+    sampling_tolerance=5e-4; for the standard method element_size,
+    patch_size, ..., and form_factor="analytic" or "disc". Settings left out
+    or None keep the filter's defaults (`penumbra settings` lists them).
     Returns the result vtkPolyData; raises penumbra.PenumbraError for bad
     input or settings.
     """
@@ -135,13 +153,10 @@ def solve(scene, threads=None, minimum_angle=None, subdivision_level=None, indir
     if method not in METHODS:
         raise penumbra.PenumbraError("unknown method '%s': give one of %s"
                                      % (method, ", ".join(METHODS)))
-    if method == "standard" and not indirect:
+    if method == "standard" and settings.get("indirect", True) is False:
         raise penumbra.PenumbraError("the standard method always computes the interreflections")
-    unknown = set(standard_settings) - set(STANDARD_SETTINGS)
-    if unknown or (method != "standard" and standard_settings):
-        raise penumbra.PenumbraError(
-            "%s: not a setting of the %s method" % (", ".join(sorted(unknown or standard_settings)),
-                                                    method))
+    if method == "standard":
+        settings.pop("indirect", None)
     if threads is not None:
         vtkSMPTools.Initialize(int(threads))
     if isinstance(scene, vtkPolyData):
@@ -153,22 +168,15 @@ def solve(scene, threads=None, minimum_angle=None, subdivision_level=None, indir
     if method == "standard":
         source = vtkTrivialProducer()
         source.SetOutput(scene_data)
-        algorithm = build_standard(source.GetOutputPort(), unshot_fraction,
-                                   **standard_settings)["standard"]
+        form_factor = settings.pop("form_factor", "analytic")
+        algorithm = build_standard(source.GetOutputPort(), form_factor=form_factor)["standard"]
+        apply_settings(algorithm, "vtkPenumbraStandardRadiositySolver", settings)
     else:
-        # The composed pipeline is the C++ vtkPenumbraSolver (one definition
-        # of the defaults for C++, Python and the command line).
+        # The composed pipeline is the C++ vtkPenumbraSolver (its defaults are
+        # the stages', for C++, Python and the command line alike).
         algorithm = penumbra.vtkPenumbraSolver()
         algorithm.SetInputData(scene_data)
-        algorithm.SetIndirect(bool(indirect))
-        for setter, value in ((algorithm.SetMinimumAngle, minimum_angle),
-                              (algorithm.SetSubdivisionLevel, subdivision_level),
-                              (algorithm.SetUnshotFraction, unshot_fraction),
-                              (algorithm.SetExactPowerFraction, exact_power_fraction),
-                              (algorithm.SetMaximumIndirectSamples, indirect_samples),
-                              (algorithm.SetReuseTransport, reuse_transport)):
-            if value is not None:
-                setter(value)
+        apply_settings(algorithm, "vtkPenumbraSolver", settings)
     if progress is not None:
         algorithm.AddObserver(
             vtkCommand.ProgressEvent,
