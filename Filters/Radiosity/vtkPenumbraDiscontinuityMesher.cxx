@@ -24,6 +24,8 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <string>
+#include <vector>
 
 vtkStandardNewMacro(vtkPenumbraDiscontinuityMesher);
 
@@ -74,6 +76,101 @@ void AddCount(vtkFieldData* fieldData, const char* name, double value)
   array->SetName(name);
   array->InsertNextValue(static_cast<vtkIdType>(value));
   fieldData->AddArray(array);
+}
+
+/// Mesh the receivers in parallel, in batches between which progress is
+/// reported and abort honoured; the results are joined in receiver order.
+/// Returns the first error ("surface <id>: ..."), empty if none.
+std::string MeshReceivers(vtkPenumbraDiscontinuityMesher* self,
+  const penumbra::DiscontinuityMesher& mesher, const penumbra::DiscontinuityMeshSettings& settings,
+  std::vector<penumbra::ReceiverMesh>& meshes, penumbra::DiscontinuityMeshStatistics& total)
+{
+  const int numberOfSurfaces = static_cast<int>(meshes.size());
+  vtkSMPThreadLocal<penumbra::DiscontinuityMeshStatistics> statistics;
+  std::mutex errorMutex;
+  std::string error;
+  const int batches = std::min(numberOfSurfaces, 50);
+  self->UpdateProgress(0.0);
+  for (int batch = 0; batch < batches && !self->GetAbortExecute() && error.empty(); ++batch)
+  {
+    const vtkIdType begin = static_cast<vtkIdType>(numberOfSurfaces) * batch / batches;
+    const vtkIdType end = static_cast<vtkIdType>(numberOfSurfaces) * (batch + 1) / batches;
+    vtkSMPTools::For(begin, end, [&](vtkIdType first, vtkIdType last) {
+      for (vtkIdType i = first; i < last; ++i)
+      {
+        try
+        {
+          meshes[i] = mesher.MeshReceiver(static_cast<int>(i), settings, &statistics.Local());
+        }
+        catch (const std::exception& e)
+        {
+          std::lock_guard<std::mutex> lock(errorMutex);
+          if (error.empty())
+          {
+            error = "surface " + std::to_string(i) + ": " + e.what();
+          }
+        }
+      }
+    });
+    self->UpdateProgress(static_cast<double>(batch + 1) / batches);
+  }
+  for (const auto& local : statistics)
+  {
+    total += local;
+  }
+  return error;
+}
+
+/// The receivers' meshes, in receiver order, as the output polydata, with
+/// the mesher's statistics as field arrays.
+void WriteMeshes(const std::vector<penumbra::ReceiverMesh>& meshes,
+  const penumbra::DiscontinuityMeshStatistics& total, vtkPolyData* output)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkIntArray> pointSurface;
+  pointSurface->SetName("SurfaceId");
+  std::vector<int> lineOrder, lineSource, lineSurface, polySurface;
+  for (const penumbra::ReceiverMesh& mesh : meshes)
+  {
+    const vtkIdType offset = points->GetNumberOfPoints();
+    for (const penumbra::Vec3& p : mesh.Points)
+    {
+      points->InsertNextPoint(p.X, p.Y, p.Z);
+      pointSurface->InsertNextValue(mesh.ReceiverId);
+    }
+    for (const auto& t : mesh.Triangles)
+    {
+      const vtkIdType ids[3] = { offset + t[0], offset + t[1], offset + t[2] };
+      polys->InsertNextCell(3, ids);
+      polySurface.push_back(mesh.ReceiverId);
+    }
+    for (const penumbra::DiscontinuitySegment& s : mesh.Segments)
+    {
+      const vtkIdType ids[2] = { offset + s.PointA, offset + s.PointB };
+      lines->InsertNextCell(2, ids);
+      lineOrder.push_back(s.Order);
+      lineSource.push_back(s.SourceId);
+      lineSurface.push_back(s.ReceiverId);
+    }
+  }
+  output->SetPoints(points);
+  output->SetLines(lines);
+  output->SetPolys(polys);
+
+  penumbra::AddMeshCellArrays(output, lineSurface, lineOrder, lineSource, polySurface);
+  output->GetPointData()->AddArray(pointSurface);
+
+  vtkFieldData* fieldData = output->GetFieldData();
+  AddCount(fieldData, "SegmentsGenerated", static_cast<double>(total.SegmentsGenerated));
+  AddCount(fieldData, "SegmentsKept", static_cast<double>(total.SegmentsKept));
+  AddCount(fieldData, "ContactSegments", static_cast<double>(total.ContactSegments));
+  AddCount(fieldData, "Constraints", static_cast<double>(total.Constraints));
+  AddCount(fieldData, "ConstraintFailures", static_cast<double>(total.ConstraintFailures));
+  AddCount(fieldData, "Triangles", static_cast<double>(total.Triangles));
+  AddCount(fieldData, "Wedges", static_cast<double>(total.Wedges));
 }
 }
 
@@ -126,37 +223,9 @@ int vtkPenumbraDiscontinuityMesher::Execute(
     return 0;
   }
 
-  // Mesh receivers in parallel, in batches between which progress is
-  // reported and abort honoured; the results are joined in receiver order.
   std::vector<penumbra::ReceiverMesh> meshes(static_cast<std::size_t>(numberOfSurfaces));
-  vtkSMPThreadLocal<penumbra::DiscontinuityMeshStatistics> statistics;
-  std::mutex errorMutex;
-  std::string error;
-  const int batches = std::min(numberOfSurfaces, 50);
-  this->UpdateProgress(0.0);
-  for (int batch = 0; batch < batches && !this->GetAbortExecute() && error.empty(); ++batch)
-  {
-    const vtkIdType begin = static_cast<vtkIdType>(numberOfSurfaces) * batch / batches;
-    const vtkIdType end = static_cast<vtkIdType>(numberOfSurfaces) * (batch + 1) / batches;
-    vtkSMPTools::For(begin, end, [&](vtkIdType first, vtkIdType last) {
-      for (vtkIdType i = first; i < last; ++i)
-      {
-        try
-        {
-          meshes[i] = mesher->MeshReceiver(static_cast<int>(i), settings, &statistics.Local());
-        }
-        catch (const std::exception& e)
-        {
-          std::lock_guard<std::mutex> lock(errorMutex);
-          if (error.empty())
-          {
-            error = "surface " + std::to_string(i) + ": " + e.what();
-          }
-        }
-      }
-    });
-    this->UpdateProgress(static_cast<double>(batch + 1) / batches);
-  }
+  penumbra::DiscontinuityMeshStatistics total;
+  const std::string error = MeshReceivers(this, *mesher, settings, meshes, total);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
@@ -166,57 +235,7 @@ int vtkPenumbraDiscontinuityMesher::Execute(
   {
     return 1;
   }
-  penumbra::DiscontinuityMeshStatistics total;
-  for (const auto& local : statistics)
-  {
-    total += local;
-  }
-
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  vtkNew<vtkCellArray> lines;
-  vtkNew<vtkCellArray> polys;
-  vtkNew<vtkIntArray> pointSurface;
-  pointSurface->SetName("SurfaceId");
-  std::vector<int> lineOrder, lineSource, lineSurface, polySurface;
-  for (const penumbra::ReceiverMesh& mesh : meshes)
-  {
-    const vtkIdType offset = points->GetNumberOfPoints();
-    for (const penumbra::Vec3& p : mesh.Points)
-    {
-      points->InsertNextPoint(p.X, p.Y, p.Z);
-      pointSurface->InsertNextValue(mesh.ReceiverId);
-    }
-    for (const auto& t : mesh.Triangles)
-    {
-      const vtkIdType ids[3] = { offset + t[0], offset + t[1], offset + t[2] };
-      polys->InsertNextCell(3, ids);
-      polySurface.push_back(mesh.ReceiverId);
-    }
-    for (const penumbra::DiscontinuitySegment& s : mesh.Segments)
-    {
-      const vtkIdType ids[2] = { offset + s.PointA, offset + s.PointB };
-      lines->InsertNextCell(2, ids);
-      lineOrder.push_back(s.Order);
-      lineSource.push_back(s.SourceId);
-      lineSurface.push_back(s.ReceiverId);
-    }
-  }
-  output->SetPoints(points);
-  output->SetLines(lines);
-  output->SetPolys(polys);
-
-  penumbra::AddMeshCellArrays(output, lineSurface, lineOrder, lineSource, polySurface);
-  output->GetPointData()->AddArray(pointSurface);
-
-  vtkFieldData* fieldData = output->GetFieldData();
-  AddCount(fieldData, "SegmentsGenerated", static_cast<double>(total.SegmentsGenerated));
-  AddCount(fieldData, "SegmentsKept", static_cast<double>(total.SegmentsKept));
-  AddCount(fieldData, "ContactSegments", static_cast<double>(total.ContactSegments));
-  AddCount(fieldData, "Constraints", static_cast<double>(total.Constraints));
-  AddCount(fieldData, "ConstraintFailures", static_cast<double>(total.ConstraintFailures));
-  AddCount(fieldData, "Triangles", static_cast<double>(total.Triangles));
-  AddCount(fieldData, "Wedges", static_cast<double>(total.Wedges));
+  WriteMeshes(meshes, total, output);
   if (total.ConstraintFailures > 0)
   {
     vtkWarningMacro(<< total.ConstraintFailures << " constraint insertions failed");

@@ -16,7 +16,7 @@
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 
-#include "penumbraIndirectLevel.h"
+#include "penumbraIndirectSampling.h"
 #include "penumbraProgressiveShooter.h"
 #include "penumbraTransportSettings.h"
 
@@ -49,6 +49,145 @@ int vtkPenumbraProgressiveShooter::FillInputPortInformation(int, vtkInformation*
   return 1;
 }
 
+namespace
+{
+/// The core's shooting settings from the filter's.
+penumbra::ProgressiveShooterSettings ShootingSettings(vtkPenumbraProgressiveShooter* self)
+{
+  penumbra::ProgressiveShooterSettings settings;
+  settings.UnshotFraction = self->GetUnshotFraction();
+  settings.MaximumShots = self->GetMaximumShots();
+  settings.ExactPowerFraction = self->GetExactPowerFraction();
+  settings.OpeningAngle = self->GetOpeningAngle();
+  settings.CoarseShotFraction = self->GetCoarseShotFraction();
+  settings.GroupWeakShots = self->GetGroupWeakShots();
+  settings.GroupAcrossOrientations = self->GetGroupAcrossOrientations();
+  settings.ReuseTransport = self->GetReuseTransport();
+  settings.ReceiverClusterSize = self->GetReceiverClusterSize();
+  return settings;
+}
+
+/// Per surface: the samples of its triangles in local numbering, and the
+/// global ids to write them back to. Throws penumbra::InputError.
+void CollectSurfaceSamples(vtkPolyData* samples, vtkDataArray* radiance,
+  vtkDataArray* surfaceIds, const penumbra::Scene& scene,
+  std::unordered_map<int, penumbra::SurfaceSamples>& bySurface,
+  std::unordered_map<int, std::vector<vtkIdType>>& global)
+{
+  const int numberOfSurfaces = static_cast<int>(scene.Surfaces.size());
+  std::unordered_map<int, std::unordered_map<vtkIdType, int>> local;
+  auto localId = [&](int surface, vtkIdType id) {
+    auto& map = local[surface];
+    auto found = map.find(id);
+    if (found != map.end())
+    {
+      return found->second;
+    }
+    penumbra::SurfaceSamples& s = bySurface[surface];
+    double p[3], value[3];
+    samples->GetPoint(id, p);
+    radiance->GetTuple(id, value);
+    const penumbra::RGB total(value[0], value[1], value[2]);
+    const penumbra::RGB& emission = scene.Surfaces[surface].Emission;
+    s.Points.emplace_back(p[0], p[1], p[2]);
+    s.Total.push_back(total);
+    // The evaluator has shot every emitter: what is left to shoot is the
+    // reflected part of the radiance.
+    s.Unshot.emplace_back(std::max(0.0, total.R - emission.R),
+      std::max(0.0, total.G - emission.G), std::max(0.0, total.B - emission.B));
+    global[surface].push_back(id);
+    const int k = static_cast<int>(s.Points.size()) - 1;
+    map.emplace(id, k);
+    return k;
+  };
+  penumbra::ForEachCell(samples,
+    [&](vtkIdType cellId, int kind, vtkIdType npts, const vtkIdType* pts) {
+      if (kind != 2)
+      {
+        return true; // only the triangles carry samples to shoot from
+      }
+      const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
+      if (surface < 0 || surface >= numberOfSurfaces)
+      {
+        std::ostringstream os;
+        os << "cell " << cellId << " has SurfaceId " << surface << ", not a scene cell";
+        throw penumbra::InputError(os.str());
+      }
+      if (npts != 3)
+      {
+        throw penumbra::InputError(
+          "cell " + std::to_string(cellId) + " is not a triangle; the samples must be triangles");
+      }
+      bySurface[surface].Triangles.push_back(
+        { localId(surface, pts[0]), localId(surface, pts[1]), localId(surface, pts[2]) });
+      return true;
+    });
+}
+
+/// The output's `Radiance`: the input's, with the shot samples' totals.
+void WriteTotals(vtkDataArray* radiance,
+  const std::unordered_map<int, std::vector<vtkIdType>>& global,
+  const penumbra::IndirectSampling& sampling, const penumbra::ProgressiveShooter& shooter,
+  vtkPolyData* output)
+{
+  vtkNew<vtkDoubleArray> total;
+  total->DeepCopy(radiance);
+  total->SetName("Radiance");
+  for (const auto& entry : global)
+  {
+    const penumbra::SurfaceSamples& s = sampling.GetSamples(entry.first, shooter);
+    for (std::size_t k = 0; k < entry.second.size(); ++k)
+    {
+      total->SetTuple3(entry.second[k], s.Total[k].R, s.Total[k].G, s.Total[k].B);
+    }
+  }
+  output->GetPointData()->AddArray(total);
+  output->GetPointData()->SetActiveScalars("Radiance");
+}
+
+/// The shooting summary as field arrays (see the class description).
+void AddShootingFields(vtkFieldData* fieldData, const penumbra::ShootingSummary& summary,
+  const penumbra::ProgressiveShooter& shooter, double indirectSpacing)
+{
+  penumbra::AddField(fieldData, "Shots", summary.Shots);
+  penumbra::AddField(fieldData, "ExactShots", summary.ExactShots);
+  penumbra::AddField(fieldData, "FastShots", summary.FastShots);
+  penumbra::AddField(fieldData, "UnshotFraction", summary.UnshotFraction);
+  penumbra::AddField(fieldData, "EmittedPower", summary.Energy.Emitted);
+  penumbra::AddField(fieldData, "AbsorbedPower", summary.Energy.Absorbed());
+  penumbra::AddField(fieldData, "EscapedPower", summary.Energy.Escaped());
+  penumbra::AddField(fieldData, "UnshotPower", summary.Energy.Unshot);
+  penumbra::AddField(fieldData, "ShootingSeconds", summary.Seconds);
+  // The points the shots were evaluated at, and the coarse level's spacing (0: none).
+  vtkIdType shootingSamples = 0;
+  for (int i = 0; i < shooter.GetNumberOfSurfaces(); ++i)
+  {
+    shootingSamples += static_cast<vtkIdType>(shooter.GetEvaluationPoints(i).size());
+  }
+  penumbra::AddField(fieldData, "IndirectSamples", static_cast<double>(shootingSamples));
+  penumbra::AddField(fieldData, "IndirectSpacing", indirectSpacing);
+  // Per shot: the shooter (the strongest of a group), the surfaces shot
+  // together, the occlusion rays traced and the wall-clock seconds.
+  vtkNew<vtkIntArray> order, groupSize;
+  vtkNew<vtkDoubleArray> rays, seconds;
+  order->SetName("ShotOrder");
+  groupSize->SetName("ShotGroupSize");
+  rays->SetName("ShotRays");
+  seconds->SetName("ShotSeconds");
+  for (const penumbra::ShotRecord& shot : summary.History)
+  {
+    order->InsertNextValue(shot.Shooter);
+    groupSize->InsertNextValue(shot.GroupSize);
+    rays->InsertNextValue(static_cast<double>(shot.Rays));
+    seconds->InsertNextValue(shot.Seconds);
+  }
+  fieldData->AddArray(order);
+  fieldData->AddArray(groupSize);
+  fieldData->AddArray(rays);
+  fieldData->AddArray(seconds);
+}
+}
+
 int vtkPenumbraProgressiveShooter::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -70,116 +209,22 @@ int vtkPenumbraProgressiveShooter::Execute(
     return 0;
   }
 
-  penumbra::ProgressiveShooterSettings settings;
-  settings.UnshotFraction = this->UnshotFraction;
-  settings.MaximumShots = this->MaximumShots;
-  settings.ExactPowerFraction = this->ExactPowerFraction;
-  settings.OpeningAngle = this->OpeningAngle;
-  settings.CoarseShotFraction = this->CoarseShotFraction;
-  settings.GroupWeakShots = this->GroupWeakShots;
-  settings.GroupAcrossOrientations = this->GroupAcrossOrientations;
-  settings.ReuseTransport = this->ReuseTransport;
-  settings.ReceiverClusterSize = this->ReceiverClusterSize;
-
-  // Per surface: its samples in local numbering; global ids to write back.
   std::unordered_map<int, penumbra::SurfaceSamples> bySurface;
-  std::unordered_map<int, std::unordered_map<vtkIdType, int>> local;
   std::unordered_map<int, std::vector<vtkIdType>> global;
   std::unique_ptr<penumbra::ProgressiveShooter> shooter;
-  // Surfaces shot on the coarse level: the level and its values before shooting.
-  struct Coarse
-  {
-    std::shared_ptr<penumbra::IndirectLevel> Level;
-    penumbra::SurfaceSamples Before;
-  };
-  std::unordered_map<int, Coarse> coarse;
-  std::unordered_map<int, penumbra::SurfaceSamples> fine;
-  double spacing = 0.0;
+  // Large inputs: shoot on the coarse level (see MaximumIndirectSamples).
+  penumbra::IndirectSampling sampling;
   try
   {
     const penumbra::Scene scene = penumbra::SceneFromPolyData(sceneData);
     penumbra::ValidateScene(scene);
-    const int numberOfSurfaces = static_cast<int>(scene.Surfaces.size());
-    auto localId = [&](int surface, vtkIdType id) {
-      auto& map = local[surface];
-      auto found = map.find(id);
-      if (found != map.end())
-      {
-        return found->second;
-      }
-      penumbra::SurfaceSamples& s = bySurface[surface];
-      double p[3], value[3];
-      samples->GetPoint(id, p);
-      radiance->GetTuple(id, value);
-      const penumbra::RGB total(value[0], value[1], value[2]);
-      const penumbra::RGB& emission = scene.Surfaces[surface].Emission;
-      s.Points.emplace_back(p[0], p[1], p[2]);
-      s.Total.push_back(total);
-      // The evaluator has shot every emitter: what is left to shoot is the
-      // reflected part of the radiance.
-      s.Unshot.emplace_back(std::max(0.0, total.R - emission.R),
-        std::max(0.0, total.G - emission.G), std::max(0.0, total.B - emission.B));
-      global[surface].push_back(id);
-      const int k = static_cast<int>(s.Points.size()) - 1;
-      map.emplace(id, k);
-      return k;
-    };
-    penumbra::ForEachCell(samples,
-      [&](vtkIdType cellId, int kind, vtkIdType npts, const vtkIdType* pts) {
-        if (kind != 2)
-        {
-          return true; // only the triangles carry samples to shoot from
-        }
-        const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
-        if (surface < 0 || surface >= numberOfSurfaces)
-        {
-          std::ostringstream os;
-          os << "cell " << cellId << " has SurfaceId " << surface << ", not a scene cell";
-          throw penumbra::InputError(os.str());
-        }
-        if (npts != 3)
-        {
-          throw penumbra::InputError(
-            "cell " + std::to_string(cellId) + " is not a triangle; the samples must be triangles");
-        }
-        bySurface[surface].Triangles.push_back(
-          { localId(surface, pts[0]), localId(surface, pts[1]), localId(surface, pts[2]) });
-        return true;
-      });
-
-    // Large inputs: shoot on the coarse level (see MaximumIndirectSamples).
-    std::vector<std::size_t> finePoints(scene.Surfaces.size(), 0);
-    for (const auto& entry : bySurface)
-    {
-      finePoints[entry.first] = entry.second.Points.size();
-    }
-    spacing = this->MaximumIndirectSamples > 0
-      ? penumbra::IndirectSpacing(
-          scene, finePoints, static_cast<std::size_t>(this->MaximumIndirectSamples))
-      : 0.0;
+    CollectSurfaceSamples(samples, radiance, surfaceIds, scene, bySurface, global);
     shooter.reset(new penumbra::ProgressiveShooter(scene));
-    shooter->SetSettings(settings);
+    shooter->SetSettings(ShootingSettings(this));
     shooter->SetParallelFor(penumbra::SMPParallelFor());
-    for (auto& entry : bySurface)
-    {
-      if (spacing > 0.0 &&
-        penumbra::IndirectLevel::CountPoints(scene.Surfaces[entry.first], spacing) <
-          entry.second.Points.size())
-      {
-        auto level = std::make_shared<penumbra::IndirectLevel>(
-          scene.Surfaces[entry.first], spacing, entry.second);
-        coarse[entry.first] = { level, level->Restrict(entry.second) };
-        // A polygon within one lattice cell receives one value, as the
-        // lattice resolves nothing finer.
-        coarse[entry.first].Before.Uniform = level->GetResolution() == 1;
-        fine[entry.first] = std::move(entry.second);
-        shooter->SetSurfaceSamples(entry.first, coarse[entry.first].Before);
-      }
-      else
-      {
-        shooter->SetSurfaceSamples(entry.first, std::move(entry.second));
-      }
-    }
+    sampling.Assign(scene, bySurface,
+      this->MaximumIndirectSamples > 0 ? static_cast<std::size_t>(this->MaximumIndirectSamples) : 0,
+      *shooter);
   }
   catch (const penumbra::InputError& e)
   {
@@ -203,64 +248,9 @@ int vtkPenumbraProgressiveShooter::Execute(
       return !this->GetAbortExecute();
     });
 
-  vtkNew<vtkDoubleArray> total;
-  total->DeepCopy(radiance);
-  total->SetName("Radiance");
-  for (auto& entry : coarse)
-  {
-    entry.second.Level->Prolong(
-      entry.second.Before, shooter->GetSurfaceSamples(entry.first), fine[entry.first]);
-  }
-  for (const auto& entry : global)
-  {
-    const auto refined = fine.find(entry.first);
-    const penumbra::SurfaceSamples& s =
-      refined != fine.end() ? refined->second : shooter->GetSurfaceSamples(entry.first);
-    for (std::size_t k = 0; k < entry.second.size(); ++k)
-    {
-      total->SetTuple3(entry.second[k], s.Total[k].R, s.Total[k].G, s.Total[k].B);
-    }
-  }
-  output->GetPointData()->AddArray(total);
-  output->GetPointData()->SetActiveScalars("Radiance");
-
-  vtkFieldData* fieldData = output->GetFieldData();
-  penumbra::AddField(fieldData, "Shots", summary.Shots);
-  penumbra::AddField(fieldData, "ExactShots", summary.ExactShots);
-  penumbra::AddField(fieldData, "FastShots", summary.FastShots);
-  penumbra::AddField(fieldData, "UnshotFraction", summary.UnshotFraction);
-  penumbra::AddField(fieldData, "EmittedPower", summary.Energy.Emitted);
-  penumbra::AddField(fieldData, "AbsorbedPower", summary.Energy.Absorbed());
-  penumbra::AddField(fieldData, "EscapedPower", summary.Energy.Escaped());
-  penumbra::AddField(fieldData, "UnshotPower", summary.Energy.Unshot);
-  penumbra::AddField(fieldData, "ShootingSeconds", summary.Seconds);
-  // The points the shots were evaluated at, and the coarse level's spacing (0: none).
-  vtkIdType shootingSamples = 0;
-  for (int i = 0; i < shooter->GetNumberOfSurfaces(); ++i)
-  {
-    shootingSamples += static_cast<vtkIdType>(shooter->GetEvaluationPoints(i).size());
-  }
-  penumbra::AddField(fieldData, "IndirectSamples", static_cast<double>(shootingSamples));
-  penumbra::AddField(fieldData, "IndirectSpacing", coarse.empty() ? 0.0 : spacing);
-  // Per shot: the shooter (the strongest of a group), the surfaces shot
-  // together, the occlusion rays traced and the wall-clock seconds.
-  vtkNew<vtkIntArray> order, groupSize;
-  vtkNew<vtkDoubleArray> rays, seconds;
-  order->SetName("ShotOrder");
-  groupSize->SetName("ShotGroupSize");
-  rays->SetName("ShotRays");
-  seconds->SetName("ShotSeconds");
-  for (const penumbra::ShotRecord& shot : summary.History)
-  {
-    order->InsertNextValue(shot.Shooter);
-    groupSize->InsertNextValue(shot.GroupSize);
-    rays->InsertNextValue(static_cast<double>(shot.Rays));
-    seconds->InsertNextValue(shot.Seconds);
-  }
-  fieldData->AddArray(order);
-  fieldData->AddArray(groupSize);
-  fieldData->AddArray(rays);
-  fieldData->AddArray(seconds);
+  sampling.Prolong(*shooter);
+  WriteTotals(radiance, global, sampling, *shooter, output);
+  AddShootingFields(output->GetFieldData(), summary, *shooter, sampling.GetSpacing());
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -71,12 +71,18 @@ penumbra::Vec3 GetPoint(vtkPoints* points, vtkIdType id)
   return { p[0], p[1], p[2] };
 }
 
-/// Reconstruct one surface; throws penumbra::InputError.
-void ReconstructSurface(const SurfaceCells& cells, vtkPoints* points, vtkDataArray* radiance,
-  const penumbra::ReconstructionOptions& options, const penumbra::ResampleOptions& resample,
-  SurfaceOutput& out)
+/// A frame in a surface's plane.
+struct SurfaceFrame
 {
-  // A frame in the surface's plane: normal from the triangles' area vectors.
+  penumbra::Vec3 Origin;
+  penumbra::Vec3 AxisU;
+  penumbra::Vec3 AxisV;
+};
+
+/// The frame of the triangles' plane: normal from their area vectors, U
+/// along the first edge not parallel to it.
+SurfaceFrame FrameOfTriangles(const SurfaceCells& cells, vtkPoints* points)
+{
   penumbra::Vec3 normal;
   for (const auto& t : cells.Triangles)
   {
@@ -84,18 +90,30 @@ void ReconstructSurface(const SurfaceCells& cells, vtkPoints* points, vtkDataArr
     normal += penumbra::Cross(GetPoint(points, t[1]) - a, GetPoint(points, t[2]) - a);
   }
   normal = penumbra::Normalized(normal);
-  const penumbra::Vec3 origin = GetPoint(points, cells.Triangles[0][0]);
-  penumbra::Vec3 axisU;
+  SurfaceFrame frame;
+  frame.Origin = GetPoint(points, cells.Triangles[0][0]);
   for (const auto& t : cells.Triangles)
   {
     const penumbra::Vec3 edge = GetPoint(points, t[1]) - GetPoint(points, t[0]);
-    axisU = penumbra::Normalized(edge - normal * penumbra::Dot(edge, normal));
-    if (penumbra::SquaredLength(axisU) > 0.5)
+    frame.AxisU = penumbra::Normalized(edge - normal * penumbra::Dot(edge, normal));
+    if (penumbra::SquaredLength(frame.AxisU) > 0.5)
     {
       break;
     }
   }
-  const penumbra::Vec3 axisV = penumbra::Cross(normal, axisU);
+  frame.AxisV = penumbra::Cross(normal, frame.AxisU);
+  return frame;
+}
+
+/// Reconstruct one surface; throws penumbra::InputError.
+void ReconstructSurface(const SurfaceCells& cells, vtkPoints* points, vtkDataArray* radiance,
+  const penumbra::ReconstructionOptions& options, const penumbra::ResampleOptions& resample,
+  SurfaceOutput& out)
+{
+  const SurfaceFrame frame = FrameOfTriangles(cells, points);
+  const penumbra::Vec3& origin = frame.Origin;
+  const penumbra::Vec3& axisU = frame.AxisU;
+  const penumbra::Vec3& axisV = frame.AxisV;
 
   penumbra::SampleMesh mesh;
   mesh.NumberOfChannels = 3;
@@ -169,41 +187,12 @@ void ReconstructSurface(const SurfaceCells& cells, vtkPoints* points, vtkDataArr
     }
   }
 }
-}
-
-int vtkPenumbraRadianceReconstructor::Execute(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+/// Sort the cells by surface (cell ids run over verts, lines, polys, strips).
+/// Returns the error for cells that cannot be reconstructed, empty if none.
+std::string SortCellsBySurface(vtkPolyData* input, vtkDataArray* surfaceIds,
+  vtkDataArray* orders, vtkDataArray* sources, vtkDataArray* residuals,
+  std::map<int, SurfaceCells>& surfaces)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
-  vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  output->Initialize();
-  if (!input || input->GetNumberOfPolys() == 0)
-  {
-    return 1;
-  }
-  vtkDataArray* radiance = input->GetPointData()->GetArray("Radiance");
-  vtkDataArray* surfaceIds = input->GetCellData()->GetArray("SurfaceId");
-  vtkDataArray* orders = input->GetCellData()->GetArray("DiscontinuityOrder");
-  vtkDataArray* sources = input->GetCellData()->GetArray("SourceId");
-  vtkDataArray* residuals = input->GetCellData()->GetArray("SamplingResidual");
-  if (residuals && residuals->GetNumberOfComponents() != 3)
-  {
-    residuals = nullptr;
-  }
-  if (!radiance || radiance->GetNumberOfComponents() != 3)
-  {
-    vtkErrorMacro(<< "the input needs a 3-component point array 'Radiance' "
-                     "(run vtkPenumbraRadianceEvaluator first)");
-    return 0;
-  }
-  if (!surfaceIds)
-  {
-    vtkErrorMacro(<< "the input needs a cell array 'SurfaceId'");
-    return 0;
-  }
-
-  // Sort the cells by surface. Cell ids run over verts, lines, polys, strips.
-  std::map<int, SurfaceCells> surfaces;
   std::string error;
   penumbra::ForEachCell(
     input, [&](vtkIdType cellId, int kind, vtkIdType npts, const vtkIdType* pts) {
@@ -243,35 +232,18 @@ int vtkPenumbraRadianceReconstructor::Execute(
       }
       return true;
     });
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 0;
-  }
+  return error;
+}
 
-  penumbra::ReconstructionOptions options;
-  options.Mode = this->Mode == LINEAR ? penumbra::ReconstructionMode::Linear
-                                      : penumbra::ReconstructionMode::CloughTocher;
-  options.EnforceNonNegativity = this->EnforceNonNegativity;
-  penumbra::ResampleOptions resample;
-  resample.SubdivisionLevel = this->SubdivisionLevel;
-  resample.TargetEdgeLength = this->TargetEdgeLength;
-  resample.ComputeErrorEstimate = this->ComputeErrorEstimate;
-
-  std::vector<int> ids;
-  std::vector<const SurfaceCells*> work;
-  for (const auto& entry : surfaces)
-  {
-    if (!entry.second.Triangles.empty())
-    {
-      ids.push_back(entry.first);
-      work.push_back(&entry.second);
-    }
-  }
-  std::vector<SurfaceOutput> results(work.size());
+/// Reconstruct the surfaces in parallel. Returns the first error
+/// ("surface <id>: ..."), empty if none.
+std::string ReconstructSurfaces(const std::vector<int>& ids,
+  const std::vector<const SurfaceCells*>& work, vtkPoints* points, vtkDataArray* radiance,
+  const penumbra::ReconstructionOptions& options, const penumbra::ResampleOptions& resample,
+  std::vector<SurfaceOutput>& results)
+{
+  std::string error;
   std::mutex errorMutex;
-  vtkPoints* points = input->GetPoints();
-  this->UpdateProgress(0.0);
   vtkSMPTools::For(0, static_cast<vtkIdType>(work.size()), [&](vtkIdType first, vtkIdType last) {
     for (vtkIdType s = first; s < last; ++s)
     {
@@ -289,12 +261,13 @@ int vtkPenumbraRadianceReconstructor::Execute(
       }
     }
   });
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 0;
-  }
+  return error;
+}
 
+/// The surfaces' reconstructions, in surface order, as the output polydata.
+void AssembleOutput(const std::vector<int>& ids, const std::vector<SurfaceOutput>& results,
+  bool computeErrorEstimate, vtkPolyData* output)
+{
   vtkNew<vtkPoints> outPoints;
   outPoints->SetDataTypeToDouble();
   vtkNew<vtkCellArray> outLines, outPolys;
@@ -312,7 +285,7 @@ int vtkPenumbraRadianceReconstructor::Execute(
     {
       outPoints->InsertNextPoint(r.Points[p].X, r.Points[p].Y, r.Points[p].Z);
       outRadiance->InsertNextTuple(&r.Radiance[3 * p]);
-      if (this->ComputeErrorEstimate)
+      if (computeErrorEstimate)
       {
         outError->InsertNextTuple(&r.Error[3 * p]);
       }
@@ -341,11 +314,82 @@ int vtkPenumbraRadianceReconstructor::Execute(
   output->SetPolys(outPolys);
   output->GetPointData()->AddArray(outRadiance);
   output->GetPointData()->SetActiveScalars("Radiance");
-  if (this->ComputeErrorEstimate)
+  if (computeErrorEstimate)
   {
     output->GetPointData()->AddArray(outError);
   }
   penumbra::AddMeshCellArrays(output, lineSurface, lineOrder, lineSource, polySurface);
+}
+}
+
+int vtkPenumbraRadianceReconstructor::Execute(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  output->Initialize();
+  if (!input || input->GetNumberOfPolys() == 0)
+  {
+    return 1;
+  }
+  vtkDataArray* radiance = input->GetPointData()->GetArray("Radiance");
+  vtkDataArray* surfaceIds = input->GetCellData()->GetArray("SurfaceId");
+  vtkDataArray* orders = input->GetCellData()->GetArray("DiscontinuityOrder");
+  vtkDataArray* sources = input->GetCellData()->GetArray("SourceId");
+  vtkDataArray* residuals = input->GetCellData()->GetArray("SamplingResidual");
+  if (residuals && residuals->GetNumberOfComponents() != 3)
+  {
+    residuals = nullptr;
+  }
+  if (!radiance || radiance->GetNumberOfComponents() != 3)
+  {
+    vtkErrorMacro(<< "the input needs a 3-component point array 'Radiance' "
+                     "(run vtkPenumbraRadianceEvaluator first)");
+    return 0;
+  }
+  if (!surfaceIds)
+  {
+    vtkErrorMacro(<< "the input needs a cell array 'SurfaceId'");
+    return 0;
+  }
+
+  std::map<int, SurfaceCells> surfaces;
+  std::string error = SortCellsBySurface(input, surfaceIds, orders, sources, residuals, surfaces);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+
+  penumbra::ReconstructionOptions options;
+  options.Mode = this->Mode == LINEAR ? penumbra::ReconstructionMode::Linear
+                                      : penumbra::ReconstructionMode::CloughTocher;
+  options.EnforceNonNegativity = this->EnforceNonNegativity;
+  penumbra::ResampleOptions resample;
+  resample.SubdivisionLevel = this->SubdivisionLevel;
+  resample.TargetEdgeLength = this->TargetEdgeLength;
+  resample.ComputeErrorEstimate = this->ComputeErrorEstimate;
+
+  std::vector<int> ids;
+  std::vector<const SurfaceCells*> work;
+  for (const auto& entry : surfaces)
+  {
+    if (!entry.second.Triangles.empty())
+    {
+      ids.push_back(entry.first);
+      work.push_back(&entry.second);
+    }
+  }
+  std::vector<SurfaceOutput> results(work.size());
+  this->UpdateProgress(0.0);
+  error =
+    ReconstructSurfaces(ids, work, input->GetPoints(), radiance, options, resample, results);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+  AssembleOutput(ids, results, this->ComputeErrorEstimate, output);
   this->UpdateProgress(1.0);
   return 1;
 }

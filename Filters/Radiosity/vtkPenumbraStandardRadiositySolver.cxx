@@ -34,6 +34,65 @@ vtkPenumbraStandardRadiositySolver::vtkPenumbraStandardRadiositySolver()
   this->FormFactorMode = static_cast<int>(defaults.FormFactor);
 }
 
+namespace
+{
+/// The solver's mesh as the output polydata: points with `Radiance`, boundary
+/// edges then triangles with the mesh cell arrays.
+void WriteMesh(const penumbra::StandardRadiosityMesh& mesh, vtkPolyData* output)
+{
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(mesh.Points.size()));
+  vtkNew<vtkDoubleArray> radiance;
+  radiance->SetName("Radiance");
+  radiance->SetNumberOfComponents(3);
+  radiance->SetNumberOfTuples(static_cast<vtkIdType>(mesh.Points.size()));
+  for (std::size_t k = 0; k < mesh.Points.size(); ++k)
+  {
+    const vtkIdType id = static_cast<vtkIdType>(k);
+    points->SetPoint(id, mesh.Points[k].X, mesh.Points[k].Y, mesh.Points[k].Z);
+    radiance->SetTuple3(id, mesh.Radiance[k].R, mesh.Radiance[k].G, mesh.Radiance[k].B);
+  }
+  vtkNew<vtkCellArray> lines;
+  for (const auto& edge : mesh.BoundaryEdges)
+  {
+    const vtkIdType ids[2] = { edge[0], edge[1] };
+    lines->InsertNextCell(2, ids);
+  }
+  vtkNew<vtkCellArray> polys;
+  for (const auto& triangle : mesh.Triangles)
+  {
+    const vtkIdType ids[3] = { triangle[0], triangle[1], triangle[2] };
+    polys->InsertNextCell(3, ids);
+  }
+  output->SetPoints(points);
+  output->SetLines(lines);
+  output->SetPolys(polys);
+  const std::vector<int> boundary(mesh.BoundaryEdges.size(), -1);
+  penumbra::AddMeshCellArrays(
+    output, mesh.BoundaryEdgeSurface, boundary, boundary, mesh.TriangleSurface);
+  output->GetPointData()->AddArray(radiance);
+  output->GetPointData()->SetActiveScalars("Radiance");
+}
+
+/// The solve's summary as field arrays.
+void AddSummaryFields(vtkFieldData* fieldData, const penumbra::StandardRadiositySummary& summary)
+{
+  penumbra::AddField(fieldData, "Shots", summary.Shots);
+  penumbra::AddField(fieldData, "UnshotFraction", summary.UnshotFraction);
+  penumbra::AddField(fieldData, "SolveSeconds", summary.Seconds);
+  penumbra::AddField(fieldData, "Elements", summary.Elements);
+  penumbra::AddField(fieldData, "Vertices", summary.Vertices);
+  penumbra::AddField(fieldData, "Patches", summary.Patches);
+  penumbra::AddField(fieldData, "SubdividedElements", summary.SubdividedElements);
+  penumbra::AddField(fieldData, "Rays", static_cast<double>(summary.Rays));
+  penumbra::AddField(fieldData, "EmittedPower", summary.Energy.Emitted);
+  penumbra::AddField(fieldData, "AbsorbedPower", summary.Energy.Absorbed());
+  penumbra::AddField(fieldData, "EscapedPower", summary.Energy.Escaped());
+  penumbra::AddField(fieldData, "UnshotPower", summary.Energy.Unshot);
+}
+}
+
 int vtkPenumbraStandardRadiositySolver::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -82,53 +141,8 @@ int vtkPenumbraStandardRadiositySolver::Execute(
     });
   const penumbra::StandardRadiosityMesh mesh = solver->GetMesh();
 
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(mesh.Points.size()));
-  vtkNew<vtkDoubleArray> radiance;
-  radiance->SetName("Radiance");
-  radiance->SetNumberOfComponents(3);
-  radiance->SetNumberOfTuples(static_cast<vtkIdType>(mesh.Points.size()));
-  for (std::size_t k = 0; k < mesh.Points.size(); ++k)
-  {
-    const vtkIdType id = static_cast<vtkIdType>(k);
-    points->SetPoint(id, mesh.Points[k].X, mesh.Points[k].Y, mesh.Points[k].Z);
-    radiance->SetTuple3(id, mesh.Radiance[k].R, mesh.Radiance[k].G, mesh.Radiance[k].B);
-  }
-  vtkNew<vtkCellArray> lines;
-  for (const auto& edge : mesh.BoundaryEdges)
-  {
-    const vtkIdType ids[2] = { edge[0], edge[1] };
-    lines->InsertNextCell(2, ids);
-  }
-  vtkNew<vtkCellArray> polys;
-  for (const auto& triangle : mesh.Triangles)
-  {
-    const vtkIdType ids[3] = { triangle[0], triangle[1], triangle[2] };
-    polys->InsertNextCell(3, ids);
-  }
-  output->SetPoints(points);
-  output->SetLines(lines);
-  output->SetPolys(polys);
-  const std::vector<int> boundary(mesh.BoundaryEdges.size(), -1);
-  penumbra::AddMeshCellArrays(
-    output, mesh.BoundaryEdgeSurface, boundary, boundary, mesh.TriangleSurface);
-  output->GetPointData()->AddArray(radiance);
-  output->GetPointData()->SetActiveScalars("Radiance");
-
-  vtkFieldData* fieldData = output->GetFieldData();
-  penumbra::AddField(fieldData, "Shots", summary.Shots);
-  penumbra::AddField(fieldData, "UnshotFraction", summary.UnshotFraction);
-  penumbra::AddField(fieldData, "SolveSeconds", summary.Seconds);
-  penumbra::AddField(fieldData, "Elements", summary.Elements);
-  penumbra::AddField(fieldData, "Vertices", summary.Vertices);
-  penumbra::AddField(fieldData, "Patches", summary.Patches);
-  penumbra::AddField(fieldData, "SubdividedElements", summary.SubdividedElements);
-  penumbra::AddField(fieldData, "Rays", static_cast<double>(summary.Rays));
-  penumbra::AddField(fieldData, "EmittedPower", summary.Energy.Emitted);
-  penumbra::AddField(fieldData, "AbsorbedPower", summary.Energy.Absorbed());
-  penumbra::AddField(fieldData, "EscapedPower", summary.Energy.Escaped());
-  penumbra::AddField(fieldData, "UnshotPower", summary.Energy.Unshot);
+  WriteMesh(mesh, output);
+  AddSummaryFields(output->GetFieldData(), summary);
   this->UpdateProgress(1.0);
   return 1;
 }
