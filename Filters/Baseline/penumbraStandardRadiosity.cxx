@@ -2,7 +2,10 @@
 #include "penumbraStandardRadiosity.h"
 
 #include "penumbraFormFactor.h"
+#include "penumbraMath.h"
+#include "penumbraParallel.h"
 #include "penumbraRayCastEvaluator.h"
+#include "penumbraTimer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -17,8 +20,6 @@ namespace penumbra
 {
 namespace
 {
-constexpr double Pi = 3.141592653589793238462643383279502884;
-
 struct Vertex
 {
   Vec3 Position;
@@ -65,11 +66,6 @@ double TriangleArea(const Vec3& a, const Vec3& b, const Vec3& c)
 RGB Difference(const RGB& a, const RGB& b)
 {
   return RGB(a.R - b.R, a.G - b.G, a.B - b.B);
-}
-
-double Seconds(std::chrono::steady_clock::time_point start)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::uint64_t EdgeKey(int a, int b)
@@ -156,7 +152,6 @@ struct StandardRadiosity::Internal
   void BuildSurfaceMesh(int surface);
   void BuildMesh();
   double FormFactor(const Vec3& x, const Vec3& n, int receiver, int patch, long long& rays) const;
-  void ParallelLoop(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) const;
   RGB TotalUnshotPower() const;
   int SelectPatch() const;
   ShotRecord Shoot(int patch);
@@ -205,23 +200,6 @@ void StandardRadiosity::Internal::Reset()
   this->SubdividedElements = 0;
   this->Rays = 0;
   this->Energy = ShootingEnergy();
-}
-
-void StandardRadiosity::Internal::ParallelLoop(
-  std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) const
-{
-  if (count == 0)
-  {
-    return;
-  }
-  if (this->Loop)
-  {
-    this->Loop(0, count, body);
-  }
-  else
-  {
-    body(0, count);
-  }
 }
 
 void StandardRadiosity::Internal::BuildSurfaceMesh(int surface)
@@ -536,7 +514,7 @@ ShotRecord StandardRadiosity::Internal::Shoot(int patchId)
   const std::size_t count = this->Vertices.size();
   std::vector<double> factors(count, 0.0);
   std::vector<long long> rays(count, 0);
-  this->ParallelLoop(count, [&](std::size_t begin, std::size_t end) {
+  RunParallel(this->Loop, count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t v = begin; v < end; ++v)
     {
       const Vertex& vertex = this->Vertices[v];
@@ -698,7 +676,7 @@ void StandardRadiosity::Internal::Subdivide(const std::vector<char>& changed)
     this->SubdividedElements += static_cast<int>(split.size());
     // New vertices gather every past shot, as if they had existed from the start.
     std::vector<long long> rays(created.size(), 0);
-    this->ParallelLoop(created.size(), [&](std::size_t begin, std::size_t end) {
+    RunParallel(this->Loop, created.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t q = begin; q < end; ++q)
       {
         Vertex& vertex = this->Vertices[created[q]];

@@ -8,11 +8,13 @@
 #include "penumbraConstraintMerging.h"
 #include "penumbraContacts.h"
 #include "penumbraJumpThreshold.h"
+#include "penumbraMath.h"
 #include "penumbraMeshingTolerances.h"
 #include "penumbraOccluderSet.h"
 #include "penumbraReceiverFrame.h"
 #include "penumbraReceiverTriangulation.h"
 #include "penumbraSceneTopology.h"
+#include "penumbraTimer.h"
 #include "penumbraVisualEvents.h"
 
 #include <algorithm>
@@ -27,11 +29,6 @@ namespace
 {
 
 constexpr double kMaxMinimumAngle = 20.6;
-
-double Seconds(std::chrono::steady_clock::time_point since)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
 
 } // namespace
 
@@ -89,7 +86,7 @@ DiscontinuityMesher::Internal::Internal(const Scene& scene)
   for (std::size_t k = 0; k < count; ++k)
   {
     const double power =
-      scene.Surfaces[k].Emission.Mean() * M_PI * this->Topology.Polygons[k].Area;
+      scene.Surfaces[k].Emission.Mean() * Pi * this->Topology.Polygons[k].Area;
     this->TotalPower += power;
     if (power > 0.0)
     {

@@ -5,6 +5,7 @@
 #include "penumbraReceiverTriangulation.h"
 
 #include "penumbraCGAL.h"
+#include "penumbraMath.h"
 
 #include <CGAL/Spatial_sort_traits_adapter_2.h>
 #include <CGAL/property_map.h>
@@ -439,7 +440,7 @@ TriangulationOutput TriangulateReceiver(const TriangulationInput& input)
   {
     f->set_in_domain(!refine.Cdt.is_infinite(f) && f->info().Kept);
   }
-  const double s = std::sin(input.MinimumAngle * M_PI / 180.0);
+  const double s = std::sin(input.MinimumAngle * Pi / 180.0);
   cgal::RefineMesher mesher(refine.Cdt, cgal::RefineCriteria(s * s, 0.0));
   mesher.init(true);
   mesher.refine_mesh();
@@ -549,8 +550,8 @@ struct RefinableTriangulation::Internal
   }
 };
 
-RefinableTriangulation::RefinableTriangulation(const std::vector<std::array<double, 2>>& vertices,
-  const std::vector<RefinableSegment>& segments, const std::vector<std::array<double, 2>>& keptSeeds)
+RefinableTriangulation::RefinableTriangulation(const std::vector<P2>& vertices,
+  const std::vector<RefinableSegment>& segments, const std::vector<P2>& keptSeeds)
   : Impl(new Internal)
 {
   using Point = Internal::Point;
@@ -686,7 +687,7 @@ int RefinableTriangulation::GetNumberOfVertices() const
   return static_cast<int>(this->Impl->Vertices.size());
 }
 
-std::array<double, 2> RefinableTriangulation::GetVertex(int id) const
+P2 RefinableTriangulation::GetVertex(int id) const
 {
   const auto& p = this->Impl->Vertices[id]->point();
   return { p.x(), p.y() };

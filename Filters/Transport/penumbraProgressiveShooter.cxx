@@ -11,12 +11,14 @@
 #include "penumbraFastShot.h"
 #include "penumbraGroupShot.h"
 #include "penumbraLinearSource.h"
+#include "penumbraMath.h"
 #include "penumbraOccluderSet.h"
 #include "penumbraRayCastEvaluator.h"
 #include "penumbraReceiverClusters.h"
 #include "penumbraRecordedTransport.h"
 #include "penumbraSampleSet.h"
 #include "penumbraShot.h"
+#include "penumbraTimer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -29,13 +31,6 @@ namespace penumbra
 
 namespace
 {
-
-constexpr double Pi = 3.141592653589793238462643383279502884;
-
-double Seconds(std::chrono::steady_clock::time_point since)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
 
 /// Scratch memory of one chunk of a shot's parallel loop over points.
 struct ShotWorkspace

@@ -2,6 +2,7 @@
 #include "penumbraRayCastEvaluator.h"
 
 #include "penumbraFormFactor.h" // ClipPolygonToHalfSpace
+#include "penumbraMath.h"
 
 #include <embree3/rtcore.h>
 
@@ -17,8 +18,6 @@ namespace penumbra
 
 namespace
 {
-
-constexpr double Pi = 3.141592653589793238462643383279502884;
 
 /// Intersection context carrying the surfaces whose hits are ignored.
 struct IgnoreContext
