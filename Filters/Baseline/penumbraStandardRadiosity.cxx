@@ -130,7 +130,7 @@ void StandardRadiositySettings::Validate() const
   }
 }
 
-struct StandardRadiosity::Internal
+struct StandardRadiosity::Internals
 {
   Scene SceneCopy;
   std::vector<PolygonGeometry> Geometry;
@@ -171,7 +171,7 @@ struct StandardRadiosity::Internal
  * scene's size (far above Embree's single-precision resolution, far below
  * any element). Other vertices are evaluated where they are.
  */
-Vec3 StandardRadiosity::Internal::InwardPoint(const Vec3& p, int surface) const
+Vec3 StandardRadiosity::Internals::InwardPoint(const Vec3& p, int surface) const
 {
   const std::vector<Vec3>& v = this->SceneCopy.Surfaces[surface].Vertices;
   const Vec3& normal = this->Geometry[surface].Normal;
@@ -190,7 +190,7 @@ Vec3 StandardRadiosity::Internal::InwardPoint(const Vec3& p, int surface) const
   return SquaredLength(inward) > 0.0 ? p + Normalized(inward) * (1e-4 * size) : p;
 }
 
-void StandardRadiosity::Internal::Reset()
+void StandardRadiosity::Internals::Reset()
 {
   this->Vertices.clear();
   this->Elements.clear();
@@ -202,7 +202,7 @@ void StandardRadiosity::Internal::Reset()
   this->Energy = ShootingEnergy();
 }
 
-void StandardRadiosity::Internal::BuildSurfaceMesh(int surface)
+void StandardRadiosity::Internals::BuildSurfaceMesh(int surface)
 {
   const Surface& s = this->SceneCopy.Surfaces[surface];
   const Vec3 normal = this->Geometry[surface].Normal;
@@ -359,7 +359,7 @@ void StandardRadiosity::Internal::BuildSurfaceMesh(int surface)
   }
 }
 
-void StandardRadiosity::Internal::BuildMesh()
+void StandardRadiosity::Internals::BuildMesh()
 {
   double area = 0.0;
   for (int s = 0; s < static_cast<int>(this->SceneCopy.Surfaces.size()); ++s)
@@ -371,7 +371,7 @@ void StandardRadiosity::Internal::BuildMesh()
   this->ReferenceRadiance = area > 0.0 ? emitted / (Pi * area) : 0.0;
 }
 
-double StandardRadiosity::Internal::FormFactor(
+double StandardRadiosity::Internals::FormFactor(
   const Vec3& x, const Vec3& n, int receiver, int patchId, long long& rays) const
 {
   const Patch& patch = this->Patches[patchId];
@@ -450,7 +450,7 @@ double StandardRadiosity::Internal::FormFactor(
   return analytic ? unoccluded * (visible / weightSum) : visible;
 }
 
-RGB StandardRadiosity::Internal::TotalUnshotPower() const
+RGB StandardRadiosity::Internals::TotalUnshotPower() const
 {
   RGB total;
   for (const Patch& p : this->Patches)
@@ -460,7 +460,7 @@ RGB StandardRadiosity::Internal::TotalUnshotPower() const
   return total;
 }
 
-int StandardRadiosity::Internal::SelectPatch() const
+int StandardRadiosity::Internals::SelectPatch() const
 {
   int best = -1;
   double bestPower = 0.0;
@@ -476,7 +476,7 @@ int StandardRadiosity::Internal::SelectPatch() const
   return best;
 }
 
-ShotRecord StandardRadiosity::Internal::Shoot(int patchId)
+ShotRecord StandardRadiosity::Internals::Shoot(int patchId)
 {
   const auto start = std::chrono::steady_clock::now();
   Patch& patch = this->Patches[patchId];
@@ -573,7 +573,7 @@ ShotRecord StandardRadiosity::Internal::Shoot(int patchId)
   return record;
 }
 
-void StandardRadiosity::Internal::CollectHanging(int a, int b, std::vector<int>& out) const
+void StandardRadiosity::Internals::CollectHanging(int a, int b, std::vector<int>& out) const
 {
   const auto found = this->Midpoints.find(EdgeKey(a, b));
   if (found == this->Midpoints.end())
@@ -585,7 +585,7 @@ void StandardRadiosity::Internal::CollectHanging(int a, int b, std::vector<int>&
   this->CollectHanging(found->second, b, out);
 }
 
-bool StandardRadiosity::Internal::NeedsSplit(const Element& e, std::vector<int>& ring) const
+bool StandardRadiosity::Internals::NeedsSplit(const Element& e, std::vector<int>& ring) const
 {
   ring.clear();
   for (int q = 0; q < 3; ++q)
@@ -606,7 +606,7 @@ bool StandardRadiosity::Internal::NeedsSplit(const Element& e, std::vector<int>&
   return high - low > this->Settings.SubdivisionThreshold * std::max(high, this->ReferenceRadiance);
 }
 
-int StandardRadiosity::Internal::Midpoint(int a, int b, std::vector<int>& created)
+int StandardRadiosity::Internals::Midpoint(int a, int b, std::vector<int>& created)
 {
   const auto inserted = this->Midpoints.emplace(EdgeKey(a, b), static_cast<int>(this->Vertices.size()));
   if (inserted.second)
@@ -621,7 +621,7 @@ int StandardRadiosity::Internal::Midpoint(int a, int b, std::vector<int>& create
   return inserted.first->second;
 }
 
-void StandardRadiosity::Internal::Subdivide(const std::vector<char>& changed)
+void StandardRadiosity::Internals::Subdivide(const std::vector<char>& changed)
 {
   if (this->Settings.MaximumSubdivisionDepth == 0 ||
     !std::isfinite(this->Settings.SubdivisionThreshold))
@@ -699,15 +699,15 @@ void StandardRadiosity::Internal::Subdivide(const std::vector<char>& changed)
 }
 
 StandardRadiosity::StandardRadiosity(const Scene& scene)
-  : P(new Internal)
+  : Internal(new Internals)
 {
   ValidateScene(scene);
-  this->P->SceneCopy = scene;
+  this->Internal->SceneCopy = scene;
   for (const Surface& s : scene.Surfaces)
   {
-    this->P->Geometry.push_back(ComputePolygonGeometry(s.Vertices));
+    this->Internal->Geometry.push_back(ComputePolygonGeometry(s.Vertices));
   }
-  this->P->Caster.reset(new RayCaster(scene));
+  this->Internal->Caster.reset(new RayCaster(scene));
 }
 
 StandardRadiosity::~StandardRadiosity() = default;
@@ -715,22 +715,22 @@ StandardRadiosity::~StandardRadiosity() = default;
 void StandardRadiosity::SetSettings(const StandardRadiositySettings& settings)
 {
   settings.Validate();
-  this->P->Settings = settings;
+  this->Internal->Settings = settings;
 }
 
 const StandardRadiositySettings& StandardRadiosity::GetSettings() const
 {
-  return this->P->Settings;
+  return this->Internal->Settings;
 }
 
 void StandardRadiosity::SetParallelFor(ParallelFor parallelFor)
 {
-  this->P->Loop = std::move(parallelFor);
+  this->Internal->Loop = std::move(parallelFor);
 }
 
 StandardRadiositySummary StandardRadiosity::Run(const ShotCallback& callback)
 {
-  Internal& I = *this->P;
+  Internals& I = *this->Internal;
   const auto start = std::chrono::steady_clock::now();
   I.Reset();
   I.BuildMesh();
@@ -777,7 +777,7 @@ StandardRadiositySummary StandardRadiosity::Run(const ShotCallback& callback)
 
 StandardRadiosityMesh StandardRadiosity::GetMesh() const
 {
-  const Internal& I = *this->P;
+  const Internals& I = *this->Internal;
   StandardRadiosityMesh mesh;
   for (const Vertex& v : I.Vertices)
   {
@@ -863,18 +863,18 @@ double StandardRadiosity::FormFactor(const Vec3& x, const Vec3& n, int receiverI
 {
   CheckPatchId(patchId, this->GetNumberOfPatches());
   long long rays = 0;
-  return this->P->FormFactor(x, n, receiverId, patchId, rays);
+  return this->Internal->FormFactor(x, n, receiverId, patchId, rays);
 }
 
 int StandardRadiosity::GetNumberOfPatches() const
 {
-  return static_cast<int>(this->P->Patches.size());
+  return static_cast<int>(this->Internal->Patches.size());
 }
 
 std::array<Vec3, 3> StandardRadiosity::GetPatch(int patchId) const
 {
   CheckPatchId(patchId, this->GetNumberOfPatches());
-  return this->P->Patches[patchId].Corners;
+  return this->Internal->Patches[patchId].Corners;
 }
 
 } // namespace penumbra

@@ -167,8 +167,8 @@ public:
   void Extract(RefinableSnapshot& snapshot);
 
 private:
-  struct Internal;
-  std::unique_ptr<Internal> Impl;
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
 };
 
 } // namespace detail
