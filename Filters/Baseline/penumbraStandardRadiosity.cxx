@@ -2,74 +2,33 @@
 #include "penumbraStandardRadiosity.h"
 
 #include "penumbraFormFactor.h"
+#include "penumbraMath.h"
+#include "penumbraParallel.h"
 #include "penumbraRayCastEvaluator.h"
+#include "penumbraStandardRadiosityInternals.h"
+#include "penumbraTimer.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <map>
 #include <string>
 #include <unordered_map>
 
 namespace penumbra
 {
+
+using baseline::Element;
+using baseline::PastShot;
+using baseline::Patch;
+using baseline::Vertex;
+
 namespace
 {
-constexpr double Pi = 3.141592653589793238462643383279502884;
-
-struct Vertex
-{
-  Vec3 Position;
-  Vec3 Evaluation; ///< where its radiance is computed (see InwardPoint)
-  int Surface = -1;
-  RGB Total;
-};
-
-/// A constant-radiosity receiving element: a triangle of vertex ids.
-struct Element
-{
-  std::array<int, 3> Corners;
-  int Patch = -1;
-  int Depth = 0;
-  bool Leaf = true;
-  double Area = 0.0;
-  RGB Unshot; ///< unshot radiance, constant over the element
-};
-
-/// A shooting patch: a triangle with its visibility sample points.
-struct Patch
-{
-  int Surface = -1;
-  std::array<Vec3, 3> Corners;
-  double Area = 0.0;
-  std::vector<Vec3> Samples; ///< centroids of a uniform s x s subdivision
-  double SampleArea = 0.0;
-  std::vector<int> Elements; ///< every element ever made in it (leaves and parents)
-  RGB UnshotPower;           ///< pi * sum of its leaf elements' unshot radiance * area
-};
-
-/// One past shot: which patch shot which constant radiance.
-struct PastShot
-{
-  int Patch;
-  RGB Radiance;
-};
-
-double TriangleArea(const Vec3& a, const Vec3& b, const Vec3& c)
-{
-  return 0.5 * Length(Cross(b - a, c - a));
-}
-
 RGB Difference(const RGB& a, const RGB& b)
 {
   return RGB(a.R - b.R, a.G - b.G, a.B - b.B);
-}
-
-double Seconds(std::chrono::steady_clock::time_point start)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::uint64_t EdgeKey(int a, int b)
@@ -79,25 +38,6 @@ std::uint64_t EdgeKey(int a, int b)
   return (lo << 32) | hi;
 }
 
-/// Sub-triangles of a uniform n x n subdivision of a triangle, as lattice
-/// coordinates (i, j) of their corners (point = A + (B - A) i / n + (C - A) j / n),
-/// all with the orientation of (A, B, C).
-std::vector<std::array<std::array<int, 2>, 3>> UniformSubdivision(int n)
-{
-  std::vector<std::array<std::array<int, 2>, 3>> out;
-  for (int i = 0; i < n; ++i)
-  {
-    for (int j = 0; j + i < n; ++j)
-    {
-      out.push_back({ { { i, j }, { i + 1, j }, { i, j + 1 } } });
-      if (i + j < n - 1)
-      {
-        out.push_back({ { { i + 1, j }, { i + 1, j + 1 }, { i, j + 1 } } });
-      }
-    }
-  }
-  return out;
-}
 }
 
 void StandardRadiositySettings::Validate() const
@@ -134,39 +74,6 @@ void StandardRadiositySettings::Validate() const
   }
 }
 
-struct StandardRadiosity::Internal
-{
-  Scene SceneCopy;
-  std::vector<PolygonGeometry> Geometry;
-  std::unique_ptr<RayCaster> Caster;
-  StandardRadiositySettings Settings;
-  ParallelFor Loop;
-
-  std::vector<Vertex> Vertices;
-  std::vector<Element> Elements;
-  std::vector<Patch> Patches;
-  std::unordered_map<std::uint64_t, int> Midpoints; ///< edge (vertex ids) -> its midpoint
-  std::vector<PastShot> History;
-  double ReferenceRadiance = 0.0;
-  int SubdividedElements = 0;
-  long long Rays = 0;
-  ShootingEnergy Energy;
-
-  void Reset();
-  void BuildSurfaceMesh(int surface);
-  void BuildMesh();
-  double FormFactor(const Vec3& x, const Vec3& n, int receiver, int patch, long long& rays) const;
-  void ParallelLoop(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) const;
-  RGB TotalUnshotPower() const;
-  int SelectPatch() const;
-  ShotRecord Shoot(int patch);
-  void CollectHanging(int a, int b, std::vector<int>& out) const;
-  bool NeedsSplit(const Element& e, std::vector<int>& ring) const;
-  int Midpoint(int a, int b, std::vector<int>& created);
-  void Subdivide(const std::vector<char>& changed);
-  Vec3 InwardPoint(const Vec3& p, int surface) const;
-};
-
 /**
  * A vertex on its surface's outline lies in the plane of a neighbouring
  * surface that meets it there (a wall on the floor's edge), which it would
@@ -176,7 +83,7 @@ struct StandardRadiosity::Internal
  * scene's size (far above Embree's single-precision resolution, far below
  * any element). Other vertices are evaluated where they are.
  */
-Vec3 StandardRadiosity::Internal::InwardPoint(const Vec3& p, int surface) const
+Vec3 StandardRadiosity::Internals::InwardPoint(const Vec3& p, int surface) const
 {
   const std::vector<Vec3>& v = this->SceneCopy.Surfaces[surface].Vertices;
   const Vec3& normal = this->Geometry[surface].Normal;
@@ -195,7 +102,7 @@ Vec3 StandardRadiosity::Internal::InwardPoint(const Vec3& p, int surface) const
   return SquaredLength(inward) > 0.0 ? p + Normalized(inward) * (1e-4 * size) : p;
 }
 
-void StandardRadiosity::Internal::Reset()
+void StandardRadiosity::Internals::Reset()
 {
   this->Vertices.clear();
   this->Elements.clear();
@@ -207,193 +114,7 @@ void StandardRadiosity::Internal::Reset()
   this->Energy = ShootingEnergy();
 }
 
-void StandardRadiosity::Internal::ParallelLoop(
-  std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) const
-{
-  if (count == 0)
-  {
-    return;
-  }
-  if (this->Loop)
-  {
-    this->Loop(0, count, body);
-  }
-  else
-  {
-    body(0, count);
-  }
-}
-
-void StandardRadiosity::Internal::BuildSurfaceMesh(int surface)
-{
-  const Surface& s = this->SceneCopy.Surfaces[surface];
-  const Vec3 normal = this->Geometry[surface].Normal;
-  const int first = this->Caster->GetFirstTriangle(surface);
-  const int count = this->Caster->GetNumberOfSurfaceTriangles(surface);
-  if (count == 0)
-  {
-    return;
-  }
-  // The ear triangles' corners are copies of the polygon's vertices: recover
-  // their indices, so that points on shared edges are made once.
-  std::vector<std::array<int, 3>> ears(count);
-  double longest = 0.0;
-  for (int t = 0; t < count; ++t)
-  {
-    Vec3 c[3];
-    this->Caster->GetTriangle(first + t, c);
-    for (int k = 0; k < 3; ++k)
-    {
-      const auto found = std::find_if(s.Vertices.begin(), s.Vertices.end(),
-        [&](const Vec3& v) { return v.X == c[k].X && v.Y == c[k].Y && v.Z == c[k].Z; });
-      ears[t][k] = static_cast<int>(found - s.Vertices.begin());
-      longest = std::max(longest, Length(c[(k + 1) % 3] - c[k]));
-    }
-  }
-  const double size = this->SceneCopy.Size();
-  const int m = std::max(1, static_cast<int>(std::ceil(longest / (this->Settings.PatchSize * size))));
-  const int k = std::max(
-    1, static_cast<int>(std::ceil(longest / m / (this->Settings.ElementSize * size))));
-  const int n = m * k; // lattice resolution of each ear triangle
-
-  // Lattice point -> vertex id, keyed so that a point on an ear's edge or
-  // corner gets the same id (and bit-identical position) from both ears.
-  std::map<std::array<int, 4>, int> ids;
-  auto vertexAt = [&](int ear, int i, int j) {
-    const std::array<int, 3>& c = ears[ear];
-    const std::vector<Vec3>& v = s.Vertices;
-    std::array<int, 4> key;
-    Vec3 position;
-    auto onEdge = [&](int a, int b, int p) {
-      if (a > b)
-      {
-        std::swap(a, b);
-        p = n - p;
-      }
-      key = { 1, a, b, p };
-      position = v[a] + (v[b] - v[a]) * (static_cast<double>(p) / n);
-    };
-    const int l = n - i - j;
-    if (i == 0 && j == 0)
-    {
-      key = { 0, c[0], 0, 0 };
-      position = v[c[0]];
-    }
-    else if (i == n || j == n)
-    {
-      const int corner = i == n ? c[1] : c[2];
-      key = { 0, corner, 0, 0 };
-      position = v[corner];
-    }
-    else if (j == 0)
-    {
-      onEdge(c[0], c[1], i);
-    }
-    else if (i == 0)
-    {
-      onEdge(c[0], c[2], j);
-    }
-    else if (l == 0)
-    {
-      onEdge(c[1], c[2], j);
-    }
-    else
-    {
-      key = { 2, ear, i, j };
-      position = v[c[0]] + (v[c[1]] - v[c[0]]) * (static_cast<double>(i) / n) +
-        (v[c[2]] - v[c[0]]) * (static_cast<double>(j) / n);
-    }
-    const auto inserted = ids.emplace(key, static_cast<int>(this->Vertices.size()));
-    if (inserted.second)
-    {
-      Vertex vertex;
-      vertex.Position = position;
-      vertex.Evaluation = this->InwardPoint(position, surface);
-      vertex.Surface = surface;
-      vertex.Total = s.Emission;
-      this->Vertices.push_back(vertex);
-    }
-    return inserted.first->second;
-  };
-
-  const auto patchCells = UniformSubdivision(m);
-  const auto elementCells = UniformSubdivision(k);
-  const auto sampleCells = UniformSubdivision(this->Settings.ShooterSamples);
-  const double samples = this->Settings.ShooterSamples;
-  for (int ear = 0; ear < count; ++ear)
-  {
-    for (const auto& cell : patchCells)
-    {
-      // Patch corners in the ear's lattice (scaled by k).
-      std::array<std::array<int, 2>, 3> a;
-      for (int q = 0; q < 3; ++q)
-      {
-        a[q] = { cell[q][0] * k, cell[q][1] * k };
-      }
-      Patch patch;
-      patch.Surface = surface;
-      for (int q = 0; q < 3; ++q)
-      {
-        patch.Corners[q] = this->Vertices[vertexAt(ear, a[q][0], a[q][1])].Position;
-      }
-      // Keep every triangle counter-clockwise about the front normal.
-      const bool flip =
-        Dot(Cross(patch.Corners[1] - patch.Corners[0], patch.Corners[2] - patch.Corners[0]),
-          normal) < 0.0;
-      if (flip)
-      {
-        std::swap(patch.Corners[1], patch.Corners[2]);
-        std::swap(a[1], a[2]);
-      }
-      patch.Area = TriangleArea(patch.Corners[0], patch.Corners[1], patch.Corners[2]);
-      const Vec3 du = (patch.Corners[1] - patch.Corners[0]) / samples;
-      const Vec3 dv = (patch.Corners[2] - patch.Corners[0]) / samples;
-      for (const auto& sub : sampleCells)
-      {
-        const double u = (sub[0][0] + sub[1][0] + sub[2][0]) / 3.0;
-        const double w = (sub[0][1] + sub[1][1] + sub[2][1]) / 3.0;
-        patch.Samples.push_back(patch.Corners[0] + du * u + dv * w);
-      }
-      patch.SampleArea = patch.Area / static_cast<double>(patch.Samples.size());
-      const int patchId = static_cast<int>(this->Patches.size());
-      for (const auto& sub : elementCells)
-      {
-        Element e;
-        e.Patch = patchId;
-        for (int q = 0; q < 3; ++q)
-        {
-          // a[0] + (a[1] - a[0]) u / k + (a[2] - a[0]) w / k, exact in integers.
-          const int i = a[0][0] + ((a[1][0] - a[0][0]) * sub[q][0] + (a[2][0] - a[0][0]) * sub[q][1]) / k;
-          const int j = a[0][1] + ((a[1][1] - a[0][1]) * sub[q][0] + (a[2][1] - a[0][1]) * sub[q][1]) / k;
-          e.Corners[q] = vertexAt(ear, i, j);
-        }
-        const Vec3& p0 = this->Vertices[e.Corners[0]].Position;
-        const Vec3& p1 = this->Vertices[e.Corners[1]].Position;
-        const Vec3& p2 = this->Vertices[e.Corners[2]].Position;
-        e.Area = TriangleArea(p0, p1, p2);
-        e.Unshot = s.Emission;
-        patch.UnshotPower += s.Emission * (Pi * e.Area);
-        patch.Elements.push_back(static_cast<int>(this->Elements.size()));
-        this->Elements.push_back(e);
-      }
-      this->Patches.push_back(std::move(patch));
-    }
-  }
-}
-
-void StandardRadiosity::Internal::BuildMesh()
-{
-  double area = 0.0;
-  for (int s = 0; s < static_cast<int>(this->SceneCopy.Surfaces.size()); ++s)
-  {
-    this->BuildSurfaceMesh(s);
-    area += this->Geometry[s].Area;
-  }
-  const double emitted = this->SceneCopy.EmittedPower().Mean();
-  this->ReferenceRadiance = area > 0.0 ? emitted / (Pi * area) : 0.0;
-}
-
-double StandardRadiosity::Internal::FormFactor(
+double StandardRadiosity::Internals::FormFactor(
   const Vec3& x, const Vec3& n, int receiver, int patchId, long long& rays) const
 {
   const Patch& patch = this->Patches[patchId];
@@ -472,7 +193,7 @@ double StandardRadiosity::Internal::FormFactor(
   return analytic ? unoccluded * (visible / weightSum) : visible;
 }
 
-RGB StandardRadiosity::Internal::TotalUnshotPower() const
+RGB StandardRadiosity::Internals::TotalUnshotPower() const
 {
   RGB total;
   for (const Patch& p : this->Patches)
@@ -482,7 +203,7 @@ RGB StandardRadiosity::Internal::TotalUnshotPower() const
   return total;
 }
 
-int StandardRadiosity::Internal::SelectPatch() const
+int StandardRadiosity::Internals::SelectPatch() const
 {
   int best = -1;
   double bestPower = 0.0;
@@ -498,7 +219,7 @@ int StandardRadiosity::Internal::SelectPatch() const
   return best;
 }
 
-ShotRecord StandardRadiosity::Internal::Shoot(int patchId)
+ShotRecord StandardRadiosity::Internals::Shoot(int patchId)
 {
   const auto start = std::chrono::steady_clock::now();
   Patch& patch = this->Patches[patchId];
@@ -536,7 +257,7 @@ ShotRecord StandardRadiosity::Internal::Shoot(int patchId)
   const std::size_t count = this->Vertices.size();
   std::vector<double> factors(count, 0.0);
   std::vector<long long> rays(count, 0);
-  this->ParallelLoop(count, [&](std::size_t begin, std::size_t end) {
+  RunParallel(this->Loop, count, [&](std::size_t begin, std::size_t end) {
     for (std::size_t v = begin; v < end; ++v)
     {
       const Vertex& vertex = this->Vertices[v];
@@ -595,7 +316,7 @@ ShotRecord StandardRadiosity::Internal::Shoot(int patchId)
   return record;
 }
 
-void StandardRadiosity::Internal::CollectHanging(int a, int b, std::vector<int>& out) const
+void StandardRadiosity::Internals::CollectHanging(int a, int b, std::vector<int>& out) const
 {
   const auto found = this->Midpoints.find(EdgeKey(a, b));
   if (found == this->Midpoints.end())
@@ -607,7 +328,7 @@ void StandardRadiosity::Internal::CollectHanging(int a, int b, std::vector<int>&
   this->CollectHanging(found->second, b, out);
 }
 
-bool StandardRadiosity::Internal::NeedsSplit(const Element& e, std::vector<int>& ring) const
+bool StandardRadiosity::Internals::NeedsSplit(const Element& e, std::vector<int>& ring) const
 {
   ring.clear();
   for (int q = 0; q < 3; ++q)
@@ -628,7 +349,7 @@ bool StandardRadiosity::Internal::NeedsSplit(const Element& e, std::vector<int>&
   return high - low > this->Settings.SubdivisionThreshold * std::max(high, this->ReferenceRadiance);
 }
 
-int StandardRadiosity::Internal::Midpoint(int a, int b, std::vector<int>& created)
+int StandardRadiosity::Internals::Midpoint(int a, int b, std::vector<int>& created)
 {
   const auto inserted = this->Midpoints.emplace(EdgeKey(a, b), static_cast<int>(this->Vertices.size()));
   if (inserted.second)
@@ -643,7 +364,7 @@ int StandardRadiosity::Internal::Midpoint(int a, int b, std::vector<int>& create
   return inserted.first->second;
 }
 
-void StandardRadiosity::Internal::Subdivide(const std::vector<char>& changed)
+void StandardRadiosity::Internals::Subdivide(const std::vector<char>& changed)
 {
   if (this->Settings.MaximumSubdivisionDepth == 0 ||
     !std::isfinite(this->Settings.SubdivisionThreshold))
@@ -698,7 +419,7 @@ void StandardRadiosity::Internal::Subdivide(const std::vector<char>& changed)
     this->SubdividedElements += static_cast<int>(split.size());
     // New vertices gather every past shot, as if they had existed from the start.
     std::vector<long long> rays(created.size(), 0);
-    this->ParallelLoop(created.size(), [&](std::size_t begin, std::size_t end) {
+    RunParallel(this->Loop, created.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t q = begin; q < end; ++q)
       {
         Vertex& vertex = this->Vertices[created[q]];
@@ -721,15 +442,15 @@ void StandardRadiosity::Internal::Subdivide(const std::vector<char>& changed)
 }
 
 StandardRadiosity::StandardRadiosity(const Scene& scene)
-  : P(new Internal)
+  : Internal(new Internals)
 {
   ValidateScene(scene);
-  this->P->SceneCopy = scene;
+  this->Internal->SceneCopy = scene;
   for (const Surface& s : scene.Surfaces)
   {
-    this->P->Geometry.push_back(ComputePolygonGeometry(s.Vertices));
+    this->Internal->Geometry.push_back(ComputePolygonGeometry(s.Vertices));
   }
-  this->P->Caster.reset(new RayCaster(scene));
+  this->Internal->Caster.reset(new RayCaster(scene));
 }
 
 StandardRadiosity::~StandardRadiosity() = default;
@@ -737,22 +458,22 @@ StandardRadiosity::~StandardRadiosity() = default;
 void StandardRadiosity::SetSettings(const StandardRadiositySettings& settings)
 {
   settings.Validate();
-  this->P->Settings = settings;
+  this->Internal->Settings = settings;
 }
 
 const StandardRadiositySettings& StandardRadiosity::GetSettings() const
 {
-  return this->P->Settings;
+  return this->Internal->Settings;
 }
 
 void StandardRadiosity::SetParallelFor(ParallelFor parallelFor)
 {
-  this->P->Loop = std::move(parallelFor);
+  this->Internal->Loop = std::move(parallelFor);
 }
 
 StandardRadiositySummary StandardRadiosity::Run(const ShotCallback& callback)
 {
-  Internal& I = *this->P;
+  Internals& I = *this->Internal;
   const auto start = std::chrono::steady_clock::now();
   I.Reset();
   I.BuildMesh();
@@ -799,7 +520,7 @@ StandardRadiositySummary StandardRadiosity::Run(const ShotCallback& callback)
 
 StandardRadiosityMesh StandardRadiosity::GetMesh() const
 {
-  const Internal& I = *this->P;
+  const Internals& I = *this->Internal;
   StandardRadiosityMesh mesh;
   for (const Vertex& v : I.Vertices)
   {
@@ -885,18 +606,18 @@ double StandardRadiosity::FormFactor(const Vec3& x, const Vec3& n, int receiverI
 {
   CheckPatchId(patchId, this->GetNumberOfPatches());
   long long rays = 0;
-  return this->P->FormFactor(x, n, receiverId, patchId, rays);
+  return this->Internal->FormFactor(x, n, receiverId, patchId, rays);
 }
 
 int StandardRadiosity::GetNumberOfPatches() const
 {
-  return static_cast<int>(this->P->Patches.size());
+  return static_cast<int>(this->Internal->Patches.size());
 }
 
 std::array<Vec3, 3> StandardRadiosity::GetPatch(int patchId) const
 {
   CheckPatchId(patchId, this->GetNumberOfPatches());
-  return this->P->Patches[patchId].Corners;
+  return this->Internal->Patches[patchId].Corners;
 }
 
 } // namespace penumbra

@@ -218,8 +218,8 @@ public:
   std::array<Vec3, 3> GetPatch(int patchId) const;
 
 private:
-  struct Internal;
-  std::unique_ptr<Internal> P;
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
 };
 
 } // namespace penumbra

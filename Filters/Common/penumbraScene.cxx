@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraScene.h"
 
+#include "penumbraMath.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -179,7 +181,7 @@ RGB Scene::EmittedPower() const
   RGB power;
   for (const Surface& s : this->Surfaces)
   {
-    power += s.Emission * (M_PI * ComputePolygonGeometry(s.Vertices).Area);
+    power += s.Emission * (Pi * ComputePolygonGeometry(s.Vertices).Area);
   }
   return power;
 }

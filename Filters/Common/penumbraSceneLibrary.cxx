@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraSceneLibrary.h"
 
+#include "penumbraMath.h"
+
 #include <cmath>
 
 namespace penumbra
@@ -18,7 +20,7 @@ const RGB kCornellGreen(0.14, 0.45, 0.091);
 const RGB kCornellLightReflectance(0.78, 0.78, 0.78);
 const RGB kCornellLightEmission(17.0, 12.0, 4.0);
 
-constexpr double kDegree = M_PI / 180.0;
+constexpr double kDegree = Pi / 180.0;
 
 // Measured Cornell data are in millimetres; dividing (rather than multiplying
 // by 1e-3) gives the correctly rounded metre value.

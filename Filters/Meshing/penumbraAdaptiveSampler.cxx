@@ -7,10 +7,12 @@
  */
 #include "penumbraAdaptiveSampler.h"
 
+#include "penumbraMath.h"
 #include "penumbraReceiverSampler.h"
 #include "penumbraReceiverTriangulation.h"
 #include "penumbraSamplingReceiver.h"
 #include "penumbraScene.h" // InputError
+#include "penumbraTimer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -22,16 +24,13 @@ namespace penumbra
 
 using detail::AssignValues;
 using detail::CheckSettings;
-using detail::Cross2;
 using detail::Decompose;
 using detail::Finish;
 using detail::Frame;
 using detail::MakeFrame;
 using detail::MeanRadiance;
-using detail::P2;
 using detail::Prepare;
 using detail::Receiver;
-using detail::Seconds;
 
 namespace
 {

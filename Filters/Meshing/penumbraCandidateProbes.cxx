@@ -9,6 +9,7 @@
 #include "penumbraCandidateProbes.h"
 
 #include "penumbraReceiverSampler.h"
+#include "penumbraTimer.h"
 
 #include <algorithm>
 #include <chrono>

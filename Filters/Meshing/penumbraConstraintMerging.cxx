@@ -2,6 +2,7 @@
 // Snapping, collinear grouping and splitting of a receiver's boundary segments.
 #include "penumbraConstraintMerging.h"
 
+#include "penumbraMath.h"
 #include "penumbraUnionFind.h"
 
 #include <algorithm>
@@ -16,11 +17,6 @@ namespace detail
 
 namespace
 {
-
-double Cross2(const P2& a, const P2& b, const P2& c)
-{
-  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
 
 struct CellKey
 {
@@ -278,11 +274,11 @@ void ConstraintMerger::GroupCollinear()
     double a = std::atan2(dy, dx);
     if (a < 0.0)
     {
-      a += M_PI;
+      a += Pi;
     }
-    if (a >= M_PI)
+    if (a >= Pi)
     {
-      a -= M_PI;
+      a -= Pi;
     }
     angle[i] = a;
     offset[i] = -std::sin(a) * segments[i].A[0] + std::cos(a) * segments[i].A[1];
@@ -293,9 +289,9 @@ void ConstraintMerger::GroupCollinear()
   }
   // Two collinear segments differ in angle by at most ~2 tol / length and in
   // offset by at most tol + (angle difference) * radius.
-  const double window = m > 0 ? std::min(M_PI, 4.0 * tol / shortest + 1e-12) : M_PI;
-  const long long angleBins = std::max(1LL, static_cast<long long>(std::floor(M_PI / window)));
-  const double binWidth = M_PI / static_cast<double>(angleBins);
+  const double window = m > 0 ? std::min(Pi, 4.0 * tol / shortest + 1e-12) : Pi;
+  const long long angleBins = std::max(1LL, static_cast<long long>(std::floor(Pi / window)));
+  const double binWidth = Pi / static_cast<double>(angleBins);
   const double offsetCell = 2.0 * tol + window * radius;
   auto angleBin = [&](double a) {
     return std::min(angleBins - 1, static_cast<long long>(std::floor(a / binWidth)));

@@ -8,11 +8,13 @@
 #include "penumbraConstraintMerging.h"
 #include "penumbraContacts.h"
 #include "penumbraJumpThreshold.h"
+#include "penumbraMath.h"
 #include "penumbraMeshingTolerances.h"
 #include "penumbraOccluderSet.h"
 #include "penumbraReceiverFrame.h"
 #include "penumbraReceiverTriangulation.h"
 #include "penumbraSceneTopology.h"
+#include "penumbraTimer.h"
 #include "penumbraVisualEvents.h"
 
 #include <algorithm>
@@ -27,11 +29,6 @@ namespace
 {
 
 constexpr double kMaxMinimumAngle = 20.6;
-
-double Seconds(std::chrono::steady_clock::time_point since)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
 
 } // namespace
 
@@ -57,7 +54,7 @@ DiscontinuityMeshStatistics& DiscontinuityMeshStatistics::operator+=(
   return *this;
 }
 
-struct DiscontinuityMesher::Internal
+struct DiscontinuityMesher::Internals
 {
   Scene SceneCopy;
   OccluderSet Occluders;
@@ -67,7 +64,7 @@ struct DiscontinuityMesher::Internal
   std::vector<std::pair<int, double>> EmitterPower;
   double TotalPower = 0.0;
 
-  explicit Internal(const Scene& scene);
+  explicit Internals(const Scene& scene);
 
   void Check(int receiverId, const DiscontinuityMeshSettings& settings) const;
   std::vector<int> Select(const DiscontinuityMeshSettings& settings) const;
@@ -79,7 +76,7 @@ struct DiscontinuityMesher::Internal
     DiscontinuityMeshStatistics& stats) const;
 };
 
-DiscontinuityMesher::Internal::Internal(const Scene& scene)
+DiscontinuityMesher::Internals::Internals(const Scene& scene)
   : SceneCopy(scene)
 {
   ValidateScene(scene);
@@ -89,7 +86,7 @@ DiscontinuityMesher::Internal::Internal(const Scene& scene)
   for (std::size_t k = 0; k < count; ++k)
   {
     const double power =
-      scene.Surfaces[k].Emission.Mean() * M_PI * this->Topology.Polygons[k].Area;
+      scene.Surfaces[k].Emission.Mean() * Pi * this->Topology.Polygons[k].Area;
     this->TotalPower += power;
     if (power > 0.0)
     {
@@ -98,7 +95,7 @@ DiscontinuityMesher::Internal::Internal(const Scene& scene)
   }
 }
 
-void DiscontinuityMesher::Internal::Check(
+void DiscontinuityMesher::Internals::Check(
   int receiverId, const DiscontinuityMeshSettings& settings) const
 {
   if (receiverId < 0 || receiverId >= static_cast<int>(this->Topology.Polygons.size()))
@@ -135,7 +132,7 @@ void DiscontinuityMesher::Internal::Check(
   }
 }
 
-std::vector<int> DiscontinuityMesher::Internal::Select(
+std::vector<int> DiscontinuityMesher::Internals::Select(
   const DiscontinuityMeshSettings& settings) const
 {
   const int count = static_cast<int>(this->Topology.Polygons.size());
@@ -176,7 +173,7 @@ std::vector<int> DiscontinuityMesher::Internal::Select(
   return shooters;
 }
 
-std::vector<detail::Segment2> DiscontinuityMesher::Internal::Boundaries(int receiverId,
+std::vector<detail::Segment2> DiscontinuityMesher::Internals::Boundaries(int receiverId,
   const DiscontinuityMeshSettings& settings, const detail::ReceiverFrame& frame,
   DiscontinuityMeshStatistics& stats) const
 {
@@ -225,7 +222,7 @@ std::vector<detail::Segment2> DiscontinuityMesher::Internal::Boundaries(int rece
   return segments;
 }
 
-std::vector<detail::Constraint2D> DiscontinuityMesher::Internal::Constraints(int receiverId,
+std::vector<detail::Constraint2D> DiscontinuityMesher::Internals::Constraints(int receiverId,
   const DiscontinuityMeshSettings& settings, const detail::ReceiverFrame& frame,
   DiscontinuityMeshStatistics& stats) const
 {
@@ -239,7 +236,7 @@ std::vector<detail::Constraint2D> DiscontinuityMesher::Internal::Constraints(int
 
 //------------------------------------------------------------------------------
 DiscontinuityMesher::DiscontinuityMesher(const Scene& scene)
-  : Impl(new Internal(scene))
+  : Internal(new Internals(scene))
 {
 }
 
@@ -249,26 +246,26 @@ DiscontinuityMesher& DiscontinuityMesher::operator=(DiscontinuityMesher&&) noexc
 
 int DiscontinuityMesher::GetNumberOfSurfaces() const
 {
-  return static_cast<int>(this->Impl->Topology.Polygons.size());
+  return static_cast<int>(this->Internal->Topology.Polygons.size());
 }
 
 std::vector<int> DiscontinuityMesher::SelectShooters(
   const DiscontinuityMeshSettings& settings) const
 {
-  return this->Impl->Select(settings);
+  return this->Internal->Select(settings);
 }
 
 std::vector<DiscontinuitySegment> DiscontinuityMesher::ComputeBoundaries(int receiverId,
   const DiscontinuityMeshSettings& settings, DiscontinuityMeshStatistics* statistics) const
 {
   const auto start = std::chrono::steady_clock::now();
-  this->Impl->Check(receiverId, settings);
+  this->Internal->Check(receiverId, settings);
   DiscontinuityMeshStatistics stats;
   stats.Receivers = 1;
   const detail::ReceiverFrame frame =
-    detail::MakeFrame(this->Impl->Topology.Polygons[receiverId]);
+    detail::MakeFrame(this->Internal->Topology.Polygons[receiverId]);
   const std::vector<detail::Constraint2D> constraints =
-    this->Impl->Constraints(receiverId, settings, frame, stats);
+    this->Internal->Constraints(receiverId, settings, frame, stats);
   std::vector<DiscontinuitySegment> out;
   out.reserve(constraints.size());
   for (const detail::Constraint2D& c : constraints)
@@ -293,19 +290,19 @@ ReceiverMesh DiscontinuityMesher::MeshReceiver(int receiverId,
   const DiscontinuityMeshSettings& settings, DiscontinuityMeshStatistics* statistics) const
 {
   const auto start = std::chrono::steady_clock::now();
-  this->Impl->Check(receiverId, settings);
+  this->Internal->Check(receiverId, settings);
   DiscontinuityMeshStatistics stats;
   stats.Receivers = 1;
   const detail::ReceiverFrame frame =
-    detail::MakeFrame(this->Impl->Topology.Polygons[receiverId]);
+    detail::MakeFrame(this->Internal->Topology.Polygons[receiverId]);
   detail::TriangulationInput input;
   input.ReceiverId = receiverId;
-  input.Constraints = this->Impl->Constraints(receiverId, settings, frame, stats);
+  input.Constraints = this->Internal->Constraints(receiverId, settings, frame, stats);
   input.Origin = frame.Origin;
   input.AxisU = frame.U;
   input.AxisV = frame.V;
   input.MinimumAngle = settings.MinimumAngle;
-  const detail::PolygonData& rec = this->Impl->Topology.Polygons[receiverId];
+  const detail::PolygonData& rec = this->Internal->Topology.Polygons[receiverId];
   for (std::size_t i = 0; i < rec.V.size(); ++i)
   {
     input.Known2D.push_back(frame.Outline[i]);

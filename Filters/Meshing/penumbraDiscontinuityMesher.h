@@ -185,8 +185,8 @@ public:
     DiscontinuityMeshStatistics* statistics = nullptr) const;
 
 private:
-  struct Internal;
-  std::unique_ptr<Internal> Impl;
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
 };
 
 } // namespace penumbra

@@ -6,6 +6,7 @@
  */
 #include "penumbraFeatureSize.h"
 
+#include "penumbraMath.h"
 #include "penumbraSamplingReceiver.h"
 #include "penumbraUnionFind.h"
 

@@ -3,6 +3,7 @@
 #include "penumbraJumpThreshold.h"
 
 #include "penumbraFormFactor.h"
+#include "penumbraMath.h"
 
 #include <algorithm>
 #include <cmath>
@@ -120,7 +121,7 @@ double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double
     radius = std::max(radius, Length(v - p.Centroid));
   }
   const double d = Length(p.Centroid - receiver.Centroid) - radius - receiverRadius;
-  return d > 0.0 ? std::min(1.0, p.Area / (M_PI * d * d)) : 1.0;
+  return d > 0.0 ? std::min(1.0, p.Area / (Pi * d * d)) : 1.0;
 }
 
 } // namespace detail

@@ -9,10 +9,11 @@
 #ifndef penumbraReceiverFrame_h
 #define penumbraReceiverFrame_h
 
+#include "penumbraMath.h"
 #include "penumbraParameterIntervals.h"
+#include "penumbraPlaneFrame.h"
 #include "penumbraSceneTopology.h"
 
-#include <array>
 #include <utility>
 #include <vector>
 
@@ -21,21 +22,11 @@ namespace penumbra
 namespace detail
 {
 
-/// A point in a receiver's frame.
-using P2 = std::array<double, 2>;
-
-/// The plane frame of one receiver and its outline in it.
-struct ReceiverFrame
+/// The plane frame of one receiver (plane offset D = Dot(N, x)) and its outline in it.
+struct ReceiverFrame : PlaneFrame
 {
-  Vec3 Origin, U, V, N;
   double D = 0.0;
   std::vector<P2> Outline;
-  P2 To2D(const Vec3& p) const
-  {
-    const Vec3 d = p - this->Origin;
-    return { Dot(d, this->U), Dot(d, this->V) };
-  }
-  Vec3 To3D(const P2& p) const { return this->Origin + p[0] * this->U + p[1] * this->V; }
 };
 
 /// The frame of `receiver`.

@@ -7,6 +7,7 @@
 #include "penumbraReceiverSampler.h"
 
 #include "penumbraFeatureSize.h"
+#include "penumbraMath.h"
 #include "penumbraScene.h" // InputError
 
 #include <algorithm>

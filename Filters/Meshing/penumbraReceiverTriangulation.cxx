@@ -5,6 +5,7 @@
 #include "penumbraReceiverTriangulation.h"
 
 #include "penumbraCGAL.h"
+#include "penumbraMath.h"
 
 #include <CGAL/Spatial_sort_traits_adapter_2.h>
 #include <CGAL/property_map.h>
@@ -439,7 +440,7 @@ TriangulationOutput TriangulateReceiver(const TriangulationInput& input)
   {
     f->set_in_domain(!refine.Cdt.is_infinite(f) && f->info().Kept);
   }
-  const double s = std::sin(input.MinimumAngle * M_PI / 180.0);
+  const double s = std::sin(input.MinimumAngle * Pi / 180.0);
   cgal::RefineMesher mesher(refine.Cdt, cgal::RefineCriteria(s * s, 0.0));
   mesher.init(true);
   mesher.refine_mesh();
@@ -455,7 +456,7 @@ TriangulationOutput TriangulateReceiver(const TriangulationInput& input)
 //------------------------------------------------------------------------------
 // RefinableTriangulation
 //------------------------------------------------------------------------------
-struct RefinableTriangulation::Internal
+struct RefinableTriangulation::Internals
 {
   using CDT = cgal::RefineCDT;
   using Face = CDT::Face_handle;
@@ -549,14 +550,14 @@ struct RefinableTriangulation::Internal
   }
 };
 
-RefinableTriangulation::RefinableTriangulation(const std::vector<std::array<double, 2>>& vertices,
-  const std::vector<RefinableSegment>& segments, const std::vector<std::array<double, 2>>& keptSeeds)
-  : Impl(new Internal)
+RefinableTriangulation::RefinableTriangulation(const std::vector<P2>& vertices,
+  const std::vector<RefinableSegment>& segments, const std::vector<P2>& keptSeeds)
+  : Internal(new Internals)
 {
-  using Point = Internal::Point;
-  using VertexHandle = Internal::VertexHandle;
-  using Face = Internal::Face;
-  Internal& in = *this->Impl;
+  using Point = Internals::Point;
+  using VertexHandle = Internals::VertexHandle;
+  using Face = Internals::Face;
+  Internals& in = *this->Internal;
   in.Segments = segments;
   const int n = static_cast<int>(vertices.size());
 
@@ -647,14 +648,14 @@ RefinableTriangulation::RefinableTriangulation(const std::vector<std::array<doub
   Face previous;
   for (const auto& seed : keptSeeds)
   {
-    Internal::CDT::Locate_type lt;
+    Internals::CDT::Locate_type lt;
     int li = 0;
     Face f = in.Cdt.locate(Point(seed[0], seed[1]), lt, li, previous);
     previous = f;
     // A seed may lie on an unconstrained edge (the centroids of a
     // rectangle's two triangles lie on its other diagonal): both faces of
     // that edge are in the seed's cell.
-    if (!(lt == Internal::CDT::FACE || (lt == Internal::CDT::EDGE && !f->is_constrained(li))) ||
+    if (!(lt == Internals::CDT::FACE || (lt == Internals::CDT::EDGE && !f->is_constrained(li))) ||
       in.Cdt.is_infinite(f) || f->info().Kept)
     {
       continue;
@@ -683,60 +684,60 @@ RefinableTriangulation::~RefinableTriangulation() = default;
 
 int RefinableTriangulation::GetNumberOfVertices() const
 {
-  return static_cast<int>(this->Impl->Vertices.size());
+  return static_cast<int>(this->Internal->Vertices.size());
 }
 
-std::array<double, 2> RefinableTriangulation::GetVertex(int id) const
+P2 RefinableTriangulation::GetVertex(int id) const
 {
-  const auto& p = this->Impl->Vertices[id]->point();
+  const auto& p = this->Internal->Vertices[id]->point();
   return { p.x(), p.y() };
 }
 
 std::size_t RefinableTriangulation::GetIrregularities() const
 {
-  return this->Impl->Irregularities;
+  return this->Internal->Irregularities;
 }
 
 int RefinableTriangulation::InsertInFace(double u, double v, int hintVertex)
 {
-  Internal& in = *this->Impl;
-  using CDT = Internal::CDT;
-  const Internal::Point p(u, v);
+  Internals& in = *this->Internal;
+  using CDT = Internals::CDT;
+  const Internals::Point p(u, v);
   CDT::Locate_type lt;
   int li = 0;
-  const Internal::Face start = hintVertex >= 0 && hintVertex < static_cast<int>(in.Vertices.size())
+  const Internals::Face start = hintVertex >= 0 && hintVertex < static_cast<int>(in.Vertices.size())
     ? in.Vertices[hintVertex]->face()
-    : Internal::Face();
-  Internal::Face f = in.Cdt.locate(p, lt, li, start);
+    : Internals::Face();
+  Internals::Face f = in.Cdt.locate(p, lt, li, start);
   if (in.Cdt.is_infinite(f) || !f->info().Kept ||
     !(lt == CDT::FACE || (lt == CDT::EDGE && !f->is_constrained(li))))
   {
     return -1;
   }
-  Internal::VertexHandle vh = in.Cdt.insert(p, lt, f, li);
+  Internals::VertexHandle vh = in.Cdt.insert(p, lt, f, li);
   in.MarkAround(vh, true);
   return in.AddId(vh);
 }
 
 int RefinableTriangulation::InsertOnEdge(int a, int b, double u, double v)
 {
-  Internal& in = *this->Impl;
-  using CDT = Internal::CDT;
+  Internals& in = *this->Internal;
+  using CDT = Internals::CDT;
   const int n = static_cast<int>(in.Vertices.size());
   if (a < 0 || a >= n || b < 0 || b >= n)
   {
     return -1;
   }
-  Internal::Face f;
+  Internals::Face f;
   int i = 0;
   if (!in.Cdt.is_edge(in.Vertices[a], in.Vertices[b], f, i))
   {
     return -1;
   }
-  const Internal::Point m(u, v);
+  const Internals::Point m(u, v);
   // Orient the edge as in f (f on its left): pa = vertex ccw(i), pb = cw(i).
-  const Internal::Point pa = f->vertex(Ccw(i))->point(), pb = f->vertex(Cw(i))->point();
-  const Internal::Face g = f->neighbor(i);
+  const Internals::Point pa = f->vertex(Ccw(i))->point(), pb = f->vertex(Cw(i))->point();
+  const Internals::Face g = f->neighbor(i);
   if (in.Cdt.is_infinite(f) || in.Cdt.is_infinite(g))
   {
     return -1;
@@ -749,7 +750,7 @@ int RefinableTriangulation::InsertOnEdge(int a, int b, double u, double v)
   {
     return -1;
   }
-  const Internal::Point c = f->vertex(i)->point(), d = g->vertex(g->index(f))->point();
+  const Internals::Point c = f->vertex(i)->point(), d = g->vertex(g->index(f))->point();
   if (CGAL::orientation(pa, m, c) != CGAL::LEFT_TURN ||
     CGAL::orientation(m, pb, c) != CGAL::LEFT_TURN ||
     CGAL::orientation(pa, m, d) != CGAL::RIGHT_TURN ||
@@ -763,7 +764,7 @@ int RefinableTriangulation::InsertOnEdge(int a, int b, double u, double v)
   {
     return -1;
   }
-  Internal::VertexHandle vh = in.Cdt.insert(m, CDT::EDGE, f, i);
+  Internals::VertexHandle vh = in.Cdt.insert(m, CDT::EDGE, f, i);
   if (constrained)
   {
     in.MarkAroundSplit(vh, pa, pb, keptLeft, keptRight);
@@ -777,9 +778,9 @@ int RefinableTriangulation::InsertOnEdge(int a, int b, double u, double v)
 
 void RefinableTriangulation::Extract(RefinableSnapshot& out)
 {
-  Internal& in = *this->Impl;
-  using Face = Internal::Face;
-  using VertexHandle = Internal::VertexHandle;
+  Internals& in = *this->Internal;
+  using Face = Internals::Face;
+  using VertexHandle = Internals::VertexHandle;
   auto& cdt = in.Cdt;
   out = RefinableSnapshot();
   out.Vertices.resize(in.Vertices.size());

@@ -10,6 +10,7 @@
 #define penumbraReceiverTriangulation_h
 
 #include "penumbraDiscontinuityMesher.h"
+#include "penumbraMath.h"
 
 #include <array>
 #include <cstddef>
@@ -44,7 +45,7 @@ struct TriangulationInput
   Vec3 AxisV;
   /// 2D points that stand for known 3D points (the receiver's vertices):
   /// output exactly as given instead of being mapped back through the frame.
-  std::vector<std::array<double, 2>> Known2D;
+  std::vector<P2> Known2D;
   std::vector<Vec3> Known3D;
   /// Minimum angle in degrees (0 = no refinement).
   double MinimumAngle = 0.0;
@@ -88,7 +89,7 @@ struct RefinableSegment
 struct RefinableSnapshot
 {
   /// (u, v) of every vertex id (stable across insertions; ids in [0, n)).
-  std::vector<std::array<double, 2>> Vertices;
+  std::vector<P2> Vertices;
   /// Vertex id of each point (copy).
   std::vector<int> PointVertex;
   /// Kept triangles: point ids, counter-clockwise.
@@ -131,9 +132,9 @@ public:
    * vertex, are resolved by the triangulation (crossings add vertices with
    * new ids) and counted in GetIrregularities().
    */
-  RefinableTriangulation(const std::vector<std::array<double, 2>>& vertices,
+  RefinableTriangulation(const std::vector<P2>& vertices,
     const std::vector<RefinableSegment>& segments,
-    const std::vector<std::array<double, 2>>& keptSeeds);
+    const std::vector<P2>& keptSeeds);
   ~RefinableTriangulation();
   RefinableTriangulation(const RefinableTriangulation&) = delete;
   RefinableTriangulation& operator=(const RefinableTriangulation&) = delete;
@@ -141,7 +142,7 @@ public:
   /// Number of vertex ids (input vertices, then inserted ones).
   int GetNumberOfVertices() const;
   /// (u, v) of vertex `id`.
-  std::array<double, 2> GetVertex(int id) const;
+  P2 GetVertex(int id) const;
   /// Input vertices merged with another, failed segment insertions and
   /// vertices created where segments cross (0 for a valid planar input).
   std::size_t GetIrregularities() const;
@@ -166,8 +167,8 @@ public:
   void Extract(RefinableSnapshot& snapshot);
 
 private:
-  struct Internal;
-  std::unique_ptr<Internal> Impl;
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
 };
 
 } // namespace detail

@@ -6,7 +6,9 @@
  */
 #include "penumbraSamplingReceiver.h"
 
+#include "penumbraMath.h"
 #include "penumbraScene.h" // InputError
+#include "penumbraTimer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,31 +20,9 @@ namespace penumbra
 namespace detail
 {
 
-double Seconds(std::chrono::steady_clock::time_point start)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-double Cross2(double ax, double ay, double bx, double by)
-{
-  return ax * by - ay * bx;
-}
-
 double Channel(const RGB& c, int k)
 {
   return k == 0 ? c.R : (k == 1 ? c.G : c.B);
-}
-
-//------------------------------------------------------------------------------
-Vec3 Frame::To3D(double u, double v) const
-{
-  return this->Origin + u * this->U + v * this->V;
-}
-
-P2 Frame::To2D(const Vec3& p) const
-{
-  const Vec3 d = p - this->Origin;
-  return { Dot(d, this->U), Dot(d, this->V) };
 }
 
 //------------------------------------------------------------------------------
@@ -300,7 +280,7 @@ bool Receiver::FanBisector(int p, double& du, double& dv, double& distance) cons
   double sweep = std::atan2(l[1] - a[1], l[0] - a[0]) - start;
   while (sweep <= 0.0)
   {
-    sweep += 2.0 * M_PI;
+    sweep += 2.0 * Pi;
   }
   du = std::cos(start + 0.5 * sweep);
   dv = std::sin(start + 0.5 * sweep);

@@ -13,10 +13,11 @@
 #define penumbraSamplingReceiver_h
 
 #include "penumbraAdaptiveSampler.h"
+#include "penumbraMath.h"
+#include "penumbraPlaneFrame.h"
 #include "penumbraReceiverTriangulation.h"
 
 #include <array>
-#include <chrono>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -26,22 +27,13 @@ namespace penumbra
 namespace detail
 {
 
-using P2 = std::array<double, 2>;
-
-/// Seconds elapsed since `start`.
-double Seconds(std::chrono::steady_clock::time_point start);
-/// z component of the cross product of (ax, ay) and (bx, by).
-double Cross2(double ax, double ay, double bx, double by);
 /// Channel k (0 R, 1 G, 2 B) of c.
 double Channel(const RGB& c, int k);
 
 /// The receiver's plane frame.
-struct Frame
+struct Frame : PlaneFrame
 {
-  Vec3 Origin, U, V, N;
   double LargestCoordinate = 0.0; // largest |coordinate| of the mesh's points
-  Vec3 To3D(double u, double v) const;
-  P2 To2D(const Vec3& p) const;
 };
 
 /// Throws InputError for settings out of range.

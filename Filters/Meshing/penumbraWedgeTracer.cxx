@@ -3,6 +3,8 @@
 // parameter, its culling against the receiver, the blockers and the visible rest.
 #include "penumbraWedgeTracer.h"
 
+#include "penumbraConvexHull.h"
+#include "penumbraMath.h"
 #include "penumbraMeshingTolerances.h"
 #include "penumbraOccluderSet.h"
 #include "penumbraParameterIntervals.h"
@@ -280,37 +282,6 @@ bool RestrictToReceiver(
   return true;
 }
 
-// The convex hull (counter-clockwise, first point repeated at the end) of
-// `flat`, which it sorts; returns the hull's point count k (hull[0..k)).
-std::size_t ConvexHull2(
-  std::vector<std::array<double, 2>>& flat, std::vector<std::array<double, 2>>& hull)
-{
-  std::sort(flat.begin(), flat.end());
-  hull.assign(2 * flat.size() + 1, { 0.0, 0.0 });
-  std::size_t k = 0;
-  auto turn = [](const std::array<double, 2>& o, const std::array<double, 2>& a,
-                const std::array<double, 2>& b) {
-    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-  };
-  for (std::size_t i = 0; i < flat.size(); ++i)
-  {
-    while (k >= 2 && turn(hull[k - 2], hull[k - 1], flat[i]) <= 0.0)
-    {
-      --k;
-    }
-    hull[k++] = flat[i];
-  }
-  for (std::size_t i = flat.size() - 1, t = k + 1; i-- > 0;)
-  {
-    while (k >= t && turn(hull[k - 2], hull[k - 1], flat[i]) <= 0.0)
-    {
-      --k;
-    }
-    hull[k++] = flat[i];
-  }
-  return k;
-}
-
 // Blocker candidates (into ctx.Scratch): the polygons crossing the wedge
 // plane inside the box of the wedge's region (the hull of the apex, the
 // generator ends and the receiver and shooter points of the valid
@@ -357,24 +328,28 @@ void FindBlockerCandidates(const PairContext& ctx, const Wedge& w, const WedgeFr
   // (a long thin triangle for a wedge from a light to a far shadow line):
   // its edges, as planes perpendicular to the wedge, keep away the many
   // polygons that cross the plane inside the box but far from the region.
-  thread_local std::vector<std::array<double, 2>> flat, hull;
+  thread_local std::vector<P2> flat;
+  thread_local std::vector<int> hull;
   flat.clear();
   for (const Vec3& p : region3)
   {
     flat.push_back({ Dot(p - w.P, u), Dot(p - w.P, wn) });
   }
-  const std::size_t k = ConvexHull2(flat, hull);
-  for (std::size_t i = 0; k >= 4 && i + 1 < k; ++i)
+  ConvexHull2(flat, hull);
+  const std::size_t k = hull.size();
+  for (std::size_t i = 0; k >= 3 && i < k; ++i)
   {
     // Counter-clockwise hull: the inward normal of edge (a, b) is left of it.
-    const double ex = hull[i + 1][0] - hull[i][0], ey = hull[i + 1][1] - hull[i][1];
+    const P2& a = flat[hull[i]];
+    const P2& b = flat[hull[(i + 1) % k]];
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
     const double el = std::hypot(ex, ey);
     if (!(el > 0.0))
     {
       continue;
     }
     const Vec3 inward = (-ey / el) * u + (ex / el) * wn;
-    const Vec3 at = w.P + hull[i][0] * u + hull[i][1] * wn;
+    const Vec3 at = w.P + a[0] * u + a[1] * wn;
     volume.Planes.push_back({ inward, Dot(inward, at) - tol });
   }
   // Blockers lie on event lines, inside the shaft: among few shaft

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraEnergyBookkeeping.h"
 
+#include "penumbraMath.h"
 #include "penumbraSampleSet.h"
 #include "penumbraScene.h"
 
@@ -11,8 +12,6 @@ namespace penumbra
 
 namespace
 {
-
-constexpr double Pi = 3.141592653589793238462643383279502884;
 
 RGB Difference(const RGB& a, const RGB& b)
 {

@@ -11,12 +11,14 @@
 #include "penumbraFastShot.h"
 #include "penumbraGroupShot.h"
 #include "penumbraLinearSource.h"
+#include "penumbraMath.h"
 #include "penumbraOccluderSet.h"
 #include "penumbraRayCastEvaluator.h"
 #include "penumbraReceiverClusters.h"
 #include "penumbraRecordedTransport.h"
 #include "penumbraSampleSet.h"
 #include "penumbraShot.h"
+#include "penumbraTimer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -29,13 +31,6 @@ namespace penumbra
 
 namespace
 {
-
-constexpr double Pi = 3.141592653589793238462643383279502884;
-
-double Seconds(std::chrono::steady_clock::time_point since)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
 
 /// Scratch memory of one chunk of a shot's parallel loop over points.
 struct ShotWorkspace
@@ -109,9 +104,9 @@ void ProgressiveShooterSettings::Validate() const
   }
 }
 
-struct ProgressiveShooter::Internal
+struct ProgressiveShooter::Internals
 {
-  explicit Internal(const Scene& scene)
+  explicit Internals(const Scene& scene)
     : Exact(scene)
     , SceneCopy(scene)
     , Samples(Exact.GetOccluders(), scene.Surfaces.size())
@@ -176,7 +171,7 @@ struct ProgressiveShooter::Internal
  * every surface with triangles and the irradiance comes from the recorded
  * transport (recorded on the first sweep).
  */
-ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
+ShotRecord ProgressiveShooter::Internals::ShootSurfaces(
   const std::vector<int>& members, ShotMethod method, double reference, bool sweep)
 {
   const bool group = members.size() > 1;
@@ -250,7 +245,7 @@ ShotRecord ProgressiveShooter::Internal::ShootSurfaces(
 
 /// The receivers that can exchange light with the shot's members, with
 /// their shaft candidates (exact single shots), and the work items in all.
-std::vector<ProgressiveShooter::Internal::Receiver> ProgressiveShooter::Internal::FindReceivers(
+std::vector<ProgressiveShooter::Internals::Receiver> ProgressiveShooter::Internals::FindReceivers(
   const Shot& shot, const std::vector<char>& isMember, bool sweep, std::size_t& items) const
 {
   std::vector<Receiver> receivers;
@@ -291,7 +286,7 @@ std::vector<ProgressiveShooter::Internal::Receiver> ProgressiveShooter::Internal
 }
 
 /// Per surface: the first work item of its points, or -1 if it receives nothing.
-std::vector<long long> ProgressiveShooter::Internal::FirstItems(
+std::vector<long long> ProgressiveShooter::Internals::FirstItems(
   const std::vector<Receiver>& receivers) const
 {
   std::vector<long long> firstItem(this->Samples.Surfaces.size(), -1);
@@ -304,7 +299,7 @@ std::vector<long long> ProgressiveShooter::Internal::FirstItems(
 
 /// A sweep through the recorded transport (recorded first if need be);
 /// returns the rays traced.
-long long ProgressiveShooter::Internal::SweepIrradiance(
+long long ProgressiveShooter::Internals::SweepIrradiance(
   const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance)
 {
   long long rays = 0;
@@ -321,7 +316,7 @@ long long ProgressiveShooter::Internal::SweepIrradiance(
 
 /// The transport of every surface to every receiver cluster, recorded once
 /// for the current samples and settings.
-void ProgressiveShooter::Internal::RecordTransport()
+void ProgressiveShooter::Internals::RecordTransport()
 {
   std::unique_ptr<RecordedTransport> transport(new RecordedTransport);
   transport->Prepare(this->Samples, this->Settings.OpeningAngle, this->Settings.LeafSize);
@@ -335,7 +330,7 @@ void ProgressiveShooter::Internal::RecordTransport()
 }
 
 /// The fast method by receiver clusters; returns the rays traced.
-long long ProgressiveShooter::Internal::ClusterIrradiance(
+long long ProgressiveShooter::Internals::ClusterIrradiance(
   const Shot& shot, const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance)
 {
   this->EnsureClusters();
@@ -359,7 +354,7 @@ long long ProgressiveShooter::Internal::ClusterIrradiance(
 }
 
 /// The shot's method at every receiving point on its own; returns the rays traced.
-long long ProgressiveShooter::Internal::PointIrradiance(
+long long ProgressiveShooter::Internals::PointIrradiance(
   const Shot& shot, const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance)
 {
   const bool fast = shot.Method == ShotMethod::Fast;
@@ -401,7 +396,7 @@ long long ProgressiveShooter::Internal::PointIrradiance(
 
 /// The receivers' updates, in a fixed order: Total and Unshot += rho / pi E
 /// at every sample, and the shot's incident and absorbed power.
-void ProgressiveShooter::Internal::Receive(
+void ProgressiveShooter::Internals::Receive(
   const std::vector<Receiver>& receivers, const std::vector<RGB>& irradiance, ShotRecord& record)
 {
   for (const Receiver& rec : receivers)
@@ -428,7 +423,7 @@ void ProgressiveShooter::Internal::Receive(
 }
 
 ProgressiveShooter::ProgressiveShooter(const Scene& scene)
-  : P(new Internal(scene))
+  : Internal(new Internals(scene))
 {
 }
 
@@ -436,12 +431,12 @@ ProgressiveShooter::~ProgressiveShooter() = default;
 
 int ProgressiveShooter::GetNumberOfSurfaces() const
 {
-  return this->P->Samples.GetNumberOfSurfaces();
+  return this->Internal->Samples.GetNumberOfSurfaces();
 }
 
 void ProgressiveShooter::SetSettings(const ProgressiveShooterSettings& settings)
 {
-  Internal& I = *this->P;
+  Internals& I = *this->Internal;
   settings.Validate();
   const ProgressiveShooterSettings& old = I.Settings;
   const bool moved = settings.BoundaryOffset != old.BoundaryOffset ||
@@ -465,22 +460,22 @@ void ProgressiveShooter::SetSettings(const ProgressiveShooterSettings& settings)
 
 const ProgressiveShooterSettings& ProgressiveShooter::GetSettings() const
 {
-  return this->P->Settings;
+  return this->Internal->Settings;
 }
 
 void ProgressiveShooter::SetShotProgressCallback(ShotProgressCallback callback)
 {
-  this->P->ShotProgress = std::move(callback);
+  this->Internal->ShotProgress = std::move(callback);
 }
 
 void ProgressiveShooter::SetParallelFor(ParallelFor parallelFor)
 {
-  this->P->Loop = std::move(parallelFor);
+  this->Internal->Loop = std::move(parallelFor);
 }
 
 void ProgressiveShooter::SetSurfaceSamples(int surfaceId, SurfaceSamples samples)
 {
-  Internal& I = *this->P;
+  Internals& I = *this->Internal;
   if (surfaceId < 0 || surfaceId >= this->GetNumberOfSurfaces())
   {
     throw InputError("progressive shooter: surface id " + std::to_string(surfaceId) +
@@ -496,22 +491,22 @@ void ProgressiveShooter::SetSurfaceSamples(int surfaceId, SurfaceSamples samples
 
 const SurfaceSamples& ProgressiveShooter::GetSurfaceSamples(int surfaceId) const
 {
-  return this->P->Samples.Surfaces.at(static_cast<std::size_t>(surfaceId));
+  return this->Internal->Samples.Surfaces.at(static_cast<std::size_t>(surfaceId));
 }
 
 const std::vector<Vec3>& ProgressiveShooter::GetEvaluationPoints(int surfaceId) const
 {
-  return this->P->Samples.EvaluationPoints.at(static_cast<std::size_t>(surfaceId));
+  return this->Internal->Samples.EvaluationPoints.at(static_cast<std::size_t>(surfaceId));
 }
 
 RGB ProgressiveShooter::GetUnshotPower(int surfaceId) const
 {
-  return this->P->Samples.UnshotPower.at(static_cast<std::size_t>(surfaceId));
+  return this->Internal->Samples.UnshotPower.at(static_cast<std::size_t>(surfaceId));
 }
 
 RGB ProgressiveShooter::GetTotalUnshotPower() const
 {
-  return this->P->Samples.TotalUnshotPower();
+  return this->Internal->Samples.TotalUnshotPower();
 }
 
 int ProgressiveShooter::SelectShooter() const
@@ -520,7 +515,7 @@ int ProgressiveShooter::SelectShooter() const
   double bestPower = 0.0;
   for (int i = 0; i < this->GetNumberOfSurfaces(); ++i)
   {
-    const double power = this->P->Samples.UnshotPower[i].Mean();
+    const double power = this->Internal->Samples.UnshotPower[i].Mean();
     if (power > bestPower)
     {
       best = i;
@@ -532,12 +527,12 @@ int ProgressiveShooter::SelectShooter() const
 
 double ProgressiveShooter::GetReferencePower() const
 {
-  return this->P->Energy.ReferencePower(this->P->Samples);
+  return this->Internal->Energy.ReferencePower(this->Internal->Samples);
 }
 
 ShotMethod ProgressiveShooter::ChooseMethod(double power) const
 {
-  const double fraction = this->P->Settings.ExactPowerFraction;
+  const double fraction = this->Internal->Settings.ExactPowerFraction;
   if (std::isinf(fraction))
   {
     return ShotMethod::Fast;
@@ -547,13 +542,13 @@ ShotMethod ProgressiveShooter::ChooseMethod(double power) const
 
 ShootingEnergy ProgressiveShooter::GetEnergy() const
 {
-  return this->P->Energy.Get(this->P->SceneCopy, this->P->Samples);
+  return this->Internal->Energy.Get(this->Internal->SceneCopy, this->Internal->Samples);
 }
 
 std::vector<RGB> ProgressiveShooter::ComputeIrradiance(int shooterId, ShotMethod method,
   const Vec3* points, std::size_t count, const Vec3& normal, int receiverId) const
 {
-  Internal& I = *this->P;
+  Internals& I = *this->Internal;
   if (shooterId < 0 || shooterId >= this->GetNumberOfSurfaces())
   {
     throw InputError("progressive shooter: shooter id " + std::to_string(shooterId) +
@@ -594,7 +589,7 @@ std::vector<RGB> ProgressiveShooter::ComputeIrradiance(int shooterId, ShotMethod
 
 ShotRecord ProgressiveShooter::Shoot(int shooterId, ShotMethod method)
 {
-  Internal& I = *this->P;
+  Internals& I = *this->Internal;
   if (shooterId < 0 || shooterId >= this->GetNumberOfSurfaces())
   {
     throw InputError("progressive shooter: shooter id " + std::to_string(shooterId) +
@@ -636,7 +631,7 @@ double ShootingProgress(
 
 ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
 {
-  Internal& I = *this->P;
+  Internals& I = *this->Internal;
   I.Energy.Ensure(I.SceneCopy, I.Samples);
   const auto start = std::chrono::steady_clock::now();
   ShootingSummary summary;

@@ -291,8 +291,8 @@ public:
     std::size_t count, const Vec3& normal, int receiverId) const;
 
 private:
-  struct Internal;
-  std::unique_ptr<Internal> P;
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
 };
 
 } // namespace penumbra

@@ -2,6 +2,7 @@
 #include "penumbraSampleSet.h"
 
 #include "penumbraBoundarySamples.h"
+#include "penumbraMath.h"
 #include "penumbraOccluderSet.h"
 #include "penumbraScene.h"
 
@@ -14,8 +15,6 @@ namespace penumbra
 
 namespace
 {
-
-constexpr double Pi = 3.141592653589793238462643383279502884;
 
 bool IsFinite(const RGB& v)
 {

@@ -2,6 +2,7 @@
 #include "penumbraExactEvaluator.h"
 
 #include "penumbraFormFactor.h"
+#include "penumbraMath.h"
 
 #include <algorithm>
 #include <cmath>
@@ -693,7 +694,7 @@ double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shoote
       r0 = r1;
     }
   }
-  double f = sum * (0.5 / M_PI);
+  double f = sum * (0.5 / Pi);
   // Rounding can leave a hair below 0 (grazing pieces) or above 1.
   f = f > 0.0 ? std::min(f, 1.0) : 0.0;
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraFormFactor.h"
 
+#include "penumbraMath.h"
+
 #include <algorithm>
 
 namespace penumbra
@@ -20,7 +22,7 @@ double PointPolygonFormFactorSigned(const Vec3& x, const Vec3& n, const Vec3* ve
     sum += LambertEdgeTerm(r0, r1, n);
     r0 = r1;
   }
-  return sum * (0.5 / M_PI);
+  return sum * (0.5 / Pi);
 }
 
 double PointPolygonFormFactor(const Vec3& x, const Vec3& n, const Vec3* vertices, int count)

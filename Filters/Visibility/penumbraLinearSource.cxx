@@ -2,6 +2,7 @@
 #include "penumbraLinearSource.h"
 
 #include "penumbraFormFactor.h"
+#include "penumbraMath.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +13,6 @@ namespace penumbra
 namespace
 {
 
-constexpr double Pi = 3.141592653589793238462643383279502884;
 constexpr int ClausenTerms = 26;
 
 /// zeta(2k): closed forms for k <= 4, a direct sum (tail below 1e-17) beyond.

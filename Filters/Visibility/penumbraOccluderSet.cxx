@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraOccluderSet.h"
 
+#include "penumbraConvexHull.h"
+#include "penumbraMath.h"
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -49,18 +52,7 @@ int ClipPolygon2D(const double* xy, int count, double a, double b, double c, dou
 namespace
 {
 
-struct Point2
-{
-  double X;
-  double Y;
-};
-
-double Cross2(const Point2& o, const Point2& a, const Point2& b)
-{
-  return (a.X - o.X) * (b.Y - o.Y) - (a.Y - o.Y) * (b.X - o.X);
-}
-
-bool IsConvex(const std::vector<Point2>& p, const std::vector<int>& cycle, double eps)
+bool IsConvex(const std::vector<P2>& p, const std::vector<int>& cycle, double eps)
 {
   const std::size_t n = cycle.size();
   for (std::size_t i = 0; i < n; ++i)
@@ -75,7 +67,7 @@ bool IsConvex(const std::vector<Point2>& p, const std::vector<int>& cycle, doubl
 
 // Drop vertices where the outline goes straight on: they add shadow lines
 // and Lambert terms that contribute nothing.
-void RemoveCollinear(const std::vector<Point2>& p, std::vector<int>& cycle, double eps)
+void RemoveCollinear(const std::vector<P2>& p, std::vector<int>& cycle, double eps)
 {
   bool changed = true;
   while (changed && cycle.size() > 3)
@@ -84,10 +76,10 @@ void RemoveCollinear(const std::vector<Point2>& p, std::vector<int>& cycle, doub
     const std::size_t n = cycle.size();
     for (std::size_t i = 0; i < n; ++i)
     {
-      const Point2& a = p[cycle[(i + n - 1) % n]];
-      const Point2& b = p[cycle[i]];
-      const Point2& c = p[cycle[(i + 1) % n]];
-      const bool forward = (b.X - a.X) * (c.X - b.X) + (b.Y - a.Y) * (c.Y - b.Y) >= 0.0;
+      const P2& a = p[cycle[(i + n - 1) % n]];
+      const P2& b = p[cycle[i]];
+      const P2& c = p[cycle[(i + 1) % n]];
+      const bool forward = (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]) >= 0.0;
       if (std::abs(Cross2(a, b, c)) <= eps && forward)
       {
         cycle.erase(cycle.begin() + static_cast<std::ptrdiff_t>(i));
@@ -98,14 +90,14 @@ void RemoveCollinear(const std::vector<Point2>& p, std::vector<int>& cycle, doub
   }
 }
 
-bool PointInTriangle(const Point2& q, const Point2& a, const Point2& b, const Point2& c, double eps)
+bool PointInTriangle(const P2& q, const P2& a, const P2& b, const P2& c, double eps)
 {
   return Cross2(a, b, q) >= -eps && Cross2(b, c, q) >= -eps && Cross2(c, a, q) >= -eps;
 }
 
 // Ear clipping of a simple counter-clockwise polygon. Degenerate input never
 // loops forever: without a proper ear the flattest vertex is cut.
-void EarClip(const std::vector<Point2>& p, std::vector<std::vector<int>>& triangles, double eps)
+void EarClip(const std::vector<P2>& p, std::vector<std::vector<int>>& triangles, double eps)
 {
   std::vector<int> v(p.size());
   for (std::size_t i = 0; i < p.size(); ++i)
@@ -131,8 +123,8 @@ void EarClip(const std::vector<Point2>& p, std::vector<std::vector<int>>& triang
         {
           continue;
         }
-        const Point2& q = p[iq];
-        if ((q.X == p[ia].X && q.Y == p[ia].Y) || (q.X == p[ic].X && q.Y == p[ic].Y))
+        const P2& q = p[iq];
+        if ((q[0] == p[ia][0] && q[1] == p[ia][1]) || (q[0] == p[ic][0] && q[1] == p[ic][1]))
         {
           continue;
         }
@@ -179,7 +171,7 @@ void EarClip(const std::vector<Point2>& p, std::vector<std::vector<int>>& triang
 // Hertel-Mehlhorn style greedy merge: join two pieces across a shared
 // diagonal whenever the union stays convex (at most 4x the optimal count).
 // An edge -> piece map finds the neighbour across a diagonal in O(1).
-void MergeConvex(const std::vector<Point2>& p, std::vector<std::vector<int>>& pieces, double eps)
+void MergeConvex(const std::vector<P2>& p, std::vector<std::vector<int>>& pieces, double eps)
 {
   auto key = [](int a, int b) {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
@@ -261,38 +253,6 @@ void MergeConvex(const std::vector<Point2>& p, std::vector<std::vector<int>>& pi
     }
   }
   pieces.swap(kept);
-}
-
-// Andrew's monotone chain; counter-clockwise, no collinear points.
-std::vector<int> ConvexHull(const std::vector<Point2>& p)
-{
-  std::vector<int> idx(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i)
-  {
-    idx[i] = static_cast<int>(i);
-  }
-  std::sort(idx.begin(), idx.end(),
-    [&p](int a, int b) { return p[a].X < p[b].X || (p[a].X == p[b].X && p[a].Y < p[b].Y); });
-  std::vector<int> hull(2 * idx.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < idx.size(); ++i)
-  {
-    while (k >= 2 && Cross2(p[hull[k - 2]], p[hull[k - 1]], p[idx[i]]) <= 0.0)
-    {
-      --k;
-    }
-    hull[k++] = idx[i];
-  }
-  for (std::size_t i = idx.size() - 1, t = k + 1; i > 0; --i)
-  {
-    while (k >= t && Cross2(p[hull[k - 2]], p[hull[k - 1]], p[idx[i - 1]]) <= 0.0)
-    {
-      --k;
-    }
-    hull[k++] = idx[i - 1];
-  }
-  hull.resize(k > 1 ? k - 1 : k);
-  return hull;
 }
 
 // Largest value of Dot(normal, p) over an axis-aligned box.
@@ -383,7 +343,8 @@ void OccluderSet::Build(const Scene& scene)
   // matters when it is farther than this (closer, either side is a valid limit).
   this->PlaneTolerance = 1e-15 * this->Extent + 8.0 * DBL_EPSILON * maxAbs;
 
-  std::vector<Point2> p2;
+  std::vector<P2> p2;
+  std::vector<int> hull;
   std::vector<std::vector<int>> pieces;
   for (const Surface& s : scene.Surfaces)
   {
@@ -463,19 +424,21 @@ void OccluderSet::Build(const Scene& scene)
       {
         // World coordinates rebuilt from the frame so that the 2D and 3D
         // copies describe exactly the same planar polygon.
-        this->PieceVertices.push_back(poly.Centroid + poly.AxisU * p2[i].X + poly.AxisV * p2[i].Y);
-        this->PiecePoints2D.push_back(p2[i].X);
-        this->PiecePoints2D.push_back(p2[i].Y);
+        this->PieceVertices.push_back(
+          poly.Centroid + poly.AxisU * p2[i][0] + poly.AxisV * p2[i][1]);
+        this->PiecePoints2D.push_back(p2[i][0]);
+        this->PiecePoints2D.push_back(p2[i][1]);
       }
       this->Pieces.push_back(cp);
     }
     poly.NumberOfPieces = static_cast<int>(this->Pieces.size()) - poly.FirstPiece;
 
-    for (int i : ConvexHull(p2))
+    ConvexHull2(p2, hull);
+    for (int i : hull)
     {
-      this->HullVertices.push_back(poly.Centroid + poly.AxisU * p2[i].X + poly.AxisV * p2[i].Y);
-      this->HullPoints2D.push_back(p2[i].X);
-      this->HullPoints2D.push_back(p2[i].Y);
+      this->HullVertices.push_back(poly.Centroid + poly.AxisU * p2[i][0] + poly.AxisV * p2[i][1]);
+      this->HullPoints2D.push_back(p2[i][0]);
+      this->HullPoints2D.push_back(p2[i][1]);
     }
     poly.NumberOfHullPoints = static_cast<int>(this->HullVertices.size()) - poly.FirstHullPoint;
     this->Polygons.push_back(poly);

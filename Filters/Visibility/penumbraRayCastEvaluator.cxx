@@ -2,6 +2,7 @@
 #include "penumbraRayCastEvaluator.h"
 
 #include "penumbraFormFactor.h" // ClipPolygonToHalfSpace
+#include "penumbraMath.h"
 
 #include <embree3/rtcore.h>
 
@@ -17,8 +18,6 @@ namespace penumbra
 
 namespace
 {
-
-constexpr double Pi = 3.141592653589793238462643383279502884;
 
 /// Intersection context carrying the surfaces whose hits are ignored.
 struct IgnoreContext
@@ -330,7 +329,7 @@ void AddClipped(const Vec3 p[3], const Vec3& x, const Vec3& n, std::vector<Initi
 } // namespace
 
 //------------------------------------------------------------------------------
-struct RayCaster::Impl
+struct RayCaster::Internals
 {
   RTCDevice Device = nullptr;
   RTCScene Handle = nullptr;
@@ -340,7 +339,7 @@ struct RayCaster::Impl
   std::vector<int> TriangleCount;      // per surface
   double Offset = 1e-5;
 
-  ~Impl()
+  ~Internals()
   {
     if (this->Handle)
     {
@@ -354,16 +353,16 @@ struct RayCaster::Impl
 };
 
 RayCaster::RayCaster(const Scene& scene)
-  : P(new Impl)
+  : Internal(new Internals)
 {
   const int surfaces = static_cast<int>(scene.Surfaces.size());
-  this->P->FirstTriangle.assign(surfaces, 0);
-  this->P->TriangleCount.assign(surfaces, 0);
+  this->Internal->FirstTriangle.assign(surfaces, 0);
+  this->Internal->TriangleCount.assign(surfaces, 0);
   std::vector<std::array<int, 3>> local;
   for (int s = 0; s < surfaces; ++s)
   {
     const std::vector<Vec3>& v = scene.Surfaces[s].Vertices;
-    this->P->FirstTriangle[s] = static_cast<int>(this->P->SurfaceOfTriangle.size());
+    this->Internal->FirstTriangle[s] = static_cast<int>(this->Internal->SurfaceOfTriangle.size());
     const PolygonGeometry geometry = ComputePolygonGeometry(v);
     if (!(geometry.Area > 0.0))
     {
@@ -375,28 +374,28 @@ RayCaster::RayCaster(const Scene& scene)
     {
       for (int k = 0; k < 3; ++k)
       {
-        this->P->Corners.push_back(v[t[k]]);
+        this->Internal->Corners.push_back(v[t[k]]);
       }
-      this->P->SurfaceOfTriangle.push_back(s);
+      this->Internal->SurfaceOfTriangle.push_back(s);
     }
-    this->P->TriangleCount[s] = static_cast<int>(local.size());
+    this->Internal->TriangleCount[s] = static_cast<int>(local.size());
   }
 
-  this->P->Device = rtcNewDevice(nullptr);
-  if (!this->P->Device)
+  this->Internal->Device = rtcNewDevice(nullptr);
+  if (!this->Internal->Device)
   {
     throw std::runtime_error("RayCaster: cannot create an Embree device (error " +
       std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   }
-  this->P->Handle = rtcNewScene(this->P->Device);
+  this->Internal->Handle = rtcNewScene(this->Internal->Device);
   // Robust: watertight traversal, so rays through shared edges of an
   // occluder's triangles cannot leak. Context filter: per-query ignored surfaces.
-  rtcSetSceneFlags(this->P->Handle, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
-  rtcSetSceneBuildQuality(this->P->Handle, RTC_BUILD_QUALITY_HIGH);
-  const std::size_t triangles = this->P->SurfaceOfTriangle.size();
+  rtcSetSceneFlags(this->Internal->Handle, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  rtcSetSceneBuildQuality(this->Internal->Handle, RTC_BUILD_QUALITY_HIGH);
+  const std::size_t triangles = this->Internal->SurfaceOfTriangle.size();
   if (triangles > 0)
   {
-    RTCGeometry geometry = rtcNewGeometry(this->P->Device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    RTCGeometry geometry = rtcNewGeometry(this->Internal->Device, RTC_GEOMETRY_TYPE_TRIANGLE);
     float* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX,
       0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * triangles));
     unsigned* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
@@ -408,17 +407,17 @@ RayCaster::RayCaster(const Scene& scene)
     }
     for (std::size_t i = 0; i < 3 * triangles; ++i)
     {
-      vertices[3 * i + 0] = static_cast<float>(this->P->Corners[i].X);
-      vertices[3 * i + 1] = static_cast<float>(this->P->Corners[i].Y);
-      vertices[3 * i + 2] = static_cast<float>(this->P->Corners[i].Z);
+      vertices[3 * i + 0] = static_cast<float>(this->Internal->Corners[i].X);
+      vertices[3 * i + 1] = static_cast<float>(this->Internal->Corners[i].Y);
+      vertices[3 * i + 2] = static_cast<float>(this->Internal->Corners[i].Z);
       indices[i] = static_cast<unsigned>(i);
     }
     rtcCommitGeometry(geometry);
-    rtcAttachGeometry(this->P->Handle, geometry);
+    rtcAttachGeometry(this->Internal->Handle, geometry);
     rtcReleaseGeometry(geometry);
   }
-  rtcCommitScene(this->P->Handle);
-  const RTCError error = rtcGetDeviceError(this->P->Device);
+  rtcCommitScene(this->Internal->Handle);
+  const RTCError error = rtcGetDeviceError(this->Internal->Device);
   if (error != RTC_ERROR_NONE)
   {
     throw std::runtime_error(
@@ -435,21 +434,21 @@ void RayCaster::SetRelativeOffset(double offset)
     throw InputError("RayCaster: RelativeOffset " + std::to_string(offset) +
       " is outside the valid range [0, 0.01]");
   }
-  this->P->Offset = offset;
+  this->Internal->Offset = offset;
 }
 
 double RayCaster::GetRelativeOffset() const
 {
-  return this->P->Offset;
+  return this->Internal->Offset;
 }
 
 bool RayCaster::IsOccluded(const Vec3& origin, const Vec3& target, int ignoreA, int ignoreB) const
 {
   IgnoreContext context;
-  InitContext(context, this->P->SurfaceOfTriangle.data(), ignoreA, ignoreB);
+  InitContext(context, this->Internal->SurfaceOfTriangle.data(), ignoreA, ignoreB);
   RTCRay ray;
-  SetupRay(ray, origin, target, this->P->Offset);
-  rtcOccluded1(this->P->Handle, &context.Context, &ray);
+  SetupRay(ray, origin, target, this->Internal->Offset);
+  rtcOccluded1(this->Internal->Handle, &context.Context, &ray);
   return ray.tfar < 0.0f; // Embree sets tfar to -inf on a hit
 }
 
@@ -457,7 +456,7 @@ std::size_t RayCaster::TraceOcclusion(const OcclusionRay* rays, std::size_t coun
   unsigned char* occluded, int ignoreA, int ignoreB) const
 {
   IgnoreContext context;
-  InitContext(context, this->P->SurfaceOfTriangle.data(), ignoreA, ignoreB);
+  InitContext(context, this->Internal->SurfaceOfTriangle.data(), ignoreA, ignoreB);
   std::size_t blocked = 0;
   // Packets of 16: several times the throughput of single rays (Embree
   // traverses the packet's rays together with SIMD instructions).
@@ -469,10 +468,10 @@ std::size_t RayCaster::TraceOcclusion(const OcclusionRay* rays, std::size_t coun
     for (int i = 0; i < 16; ++i)
     {
       const OcclusionRay& ray = rays[first + static_cast<std::size_t>(std::min(i, lanes - 1))];
-      SetupLane(packet, i, ray.Origin, ray.Target, this->P->Offset);
+      SetupLane(packet, i, ray.Origin, ray.Target, this->Internal->Offset);
       valid[i] = i < lanes ? -1 : 0;
     }
-    rtcOccluded16(valid, this->P->Handle, &context.Context, &packet);
+    rtcOccluded16(valid, this->Internal->Handle, &context.Context, &packet);
     for (int i = 0; i < lanes; ++i)
     {
       occluded[first + i] = packet.tfar[i] < 0.0f ? 1 : 0;
@@ -486,7 +485,7 @@ void RayCaster::TraceFrom(const Vec3& origin, const Vec3* targets, int count,
   unsigned char* occluded, int ignoreA, int ignoreB) const
 {
   IgnoreContext context;
-  InitContext(context, this->P->SurfaceOfTriangle.data(), ignoreA, ignoreB);
+  InitContext(context, this->Internal->SurfaceOfTriangle.data(), ignoreA, ignoreB);
   alignas(32) RTCRay8 packet;
   alignas(32) int valid[8];
   for (int first = 0; first < count; first += 8)
@@ -494,10 +493,10 @@ void RayCaster::TraceFrom(const Vec3& origin, const Vec3* targets, int count,
     const int lanes = std::min(8, count - first);
     for (int i = 0; i < 8; ++i)
     {
-      SetupLane(packet, i, origin, targets[first + std::min(i, lanes - 1)], this->P->Offset);
+      SetupLane(packet, i, origin, targets[first + std::min(i, lanes - 1)], this->Internal->Offset);
       valid[i] = i < lanes ? -1 : 0;
     }
-    rtcOccluded8(valid, this->P->Handle, &context.Context, &packet);
+    rtcOccluded8(valid, this->Internal->Handle, &context.Context, &packet);
     for (int i = 0; i < lanes; ++i)
     {
       occluded[first + i] = packet.tfar[i] < 0.0f ? 1 : 0;
@@ -509,7 +508,7 @@ void RayCaster::TraceFrom(const Vec3& origin, const Vec3* targets, const int* ta
   int count, unsigned char* occluded, int ignore) const
 {
   IgnoreContext context;
-  InitContext(context, this->P->SurfaceOfTriangle.data(), ignore, -1);
+  InitContext(context, this->Internal->SurfaceOfTriangle.data(), ignore, -1);
   context.Context.filter = IgnoreSurfaces;
   // One stream of single rays flagged incoherent: from one origin to targets
   // spread over the scene, Embree traces them faster one by one than as
@@ -520,12 +519,12 @@ void RayCaster::TraceFrom(const Vec3& origin, const Vec3* targets, const int* ta
   rays.resize(static_cast<std::size_t>(std::max(count, 0)));
   for (int k = 0; k < count; ++k)
   {
-    SetupRay(rays[k], origin, targets[k], this->P->Offset);
+    SetupRay(rays[k], origin, targets[k], this->Internal->Offset);
     rays[k].id = targetSurfaces[k] >= 0 ? static_cast<unsigned int>(targetSurfaces[k]) + 1u : 0u;
   }
   if (count > 0)
   {
-    rtcOccluded1M(this->P->Handle, &context.Context, rays.data(), static_cast<unsigned int>(count),
+    rtcOccluded1M(this->Internal->Handle, &context.Context, rays.data(), static_cast<unsigned int>(count),
       sizeof(RTCRay));
   }
   for (int k = 0; k < count; ++k)
@@ -536,35 +535,35 @@ void RayCaster::TraceFrom(const Vec3& origin, const Vec3* targets, const int* ta
 
 int RayCaster::GetNumberOfTriangles() const
 {
-  return static_cast<int>(this->P->SurfaceOfTriangle.size());
+  return static_cast<int>(this->Internal->SurfaceOfTriangle.size());
 }
 
 int RayCaster::GetTriangleSurface(int t) const
 {
-  return this->P->SurfaceOfTriangle[t];
+  return this->Internal->SurfaceOfTriangle[t];
 }
 
 void RayCaster::GetTriangle(int t, Vec3 corners[3]) const
 {
   for (int k = 0; k < 3; ++k)
   {
-    corners[k] = this->P->Corners[3 * static_cast<std::size_t>(t) + k];
+    corners[k] = this->Internal->Corners[3 * static_cast<std::size_t>(t) + k];
   }
 }
 
 int RayCaster::GetFirstTriangle(int surfaceId) const
 {
-  return this->P->FirstTriangle[surfaceId];
+  return this->Internal->FirstTriangle[surfaceId];
 }
 
 int RayCaster::GetNumberOfSurfaceTriangles(int surfaceId) const
 {
-  return this->P->TriangleCount[surfaceId];
+  return this->Internal->TriangleCount[surfaceId];
 }
 
 int RayCaster::GetNumberOfSurfaces() const
 {
-  return static_cast<int>(this->P->FirstTriangle.size());
+  return static_cast<int>(this->Internal->FirstTriangle.size());
 }
 
 //------------------------------------------------------------------------------

@@ -158,8 +158,8 @@ public:
   int GetNumberOfSurfaces() const;
 
 private:
-  struct Impl;
-  std::unique_ptr<Impl> P;
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
 };
 
 /// Counters of one ray-cast evaluation (optional output).
