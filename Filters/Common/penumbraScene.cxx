@@ -176,6 +176,37 @@ double Scene::Size() const
   return std::max({ hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2] });
 }
 
+bool Scene::IsIdentical(const Scene& other) const
+{
+  const auto same = [](const RGB& a, const RGB& b) {
+    return a.R == b.R && a.G == b.G && a.B == b.B;
+  };
+  if (this->Surfaces.size() != other.Surfaces.size())
+  {
+    return false;
+  }
+  for (std::size_t k = 0; k < this->Surfaces.size(); ++k)
+  {
+    const Surface& a = this->Surfaces[k];
+    const Surface& b = other.Surfaces[k];
+    if (a.Vertices.size() != b.Vertices.size() || !same(a.Reflectance, b.Reflectance) ||
+      !same(a.Emission, b.Emission))
+    {
+      return false;
+    }
+    for (std::size_t v = 0; v < a.Vertices.size(); ++v)
+    {
+      const Vec3& p = a.Vertices[v];
+      const Vec3& q = b.Vertices[v];
+      if (!(p.X == q.X && p.Y == q.Y && p.Z == q.Z))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 RGB Scene::EmittedPower() const
 {
   RGB power;

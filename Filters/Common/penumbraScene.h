@@ -80,6 +80,8 @@ struct Scene
   PENUMBRACOMMON_EXPORT double Size() const;
   /// Total emitted power pi * sum(L^e * A) per channel, in watts.
   PENUMBRACOMMON_EXPORT RGB EmittedPower() const;
+  /// The same surfaces, vertices and materials, to the bit.
+  PENUMBRACOMMON_EXPORT bool IsIdentical(const Scene& other) const;
 };
 
 /// Tolerances used by ValidateScene, relative to the polygon's diameter.

@@ -57,14 +57,16 @@ DiscontinuityMeshStatistics& DiscontinuityMeshStatistics::operator+=(
 struct DiscontinuityMesher::Internals
 {
   Scene SceneCopy;
-  OccluderSet Occluders;
+  std::shared_ptr<const OccluderSet> OccluderStorage; // shared with the solve's other stages
+  const OccluderSet& Occluders;
   detail::SceneTopology Topology;
   /// (surface, emitted power) of every surface with positive power, and their
   /// total: computed once, as every receiver selects its shooters.
   std::vector<std::pair<int, double>> EmitterPower;
   double TotalPower = 0.0;
 
-  explicit Internals(const Scene& scene);
+  /// `scene` must be valid.
+  Internals(const Scene& scene, std::shared_ptr<const OccluderSet> occluders);
 
   void Check(int receiverId, const DiscontinuityMeshSettings& settings) const;
   std::vector<int> Select(const DiscontinuityMeshSettings& settings) const;
@@ -76,11 +78,12 @@ struct DiscontinuityMesher::Internals
     DiscontinuityMeshStatistics& stats) const;
 };
 
-DiscontinuityMesher::Internals::Internals(const Scene& scene)
+DiscontinuityMesher::Internals::Internals(
+  const Scene& scene, std::shared_ptr<const OccluderSet> occluders)
   : SceneCopy(scene)
+  , OccluderStorage(std::move(occluders))
+  , Occluders(*OccluderStorage)
 {
-  ValidateScene(scene);
-  this->Occluders.Build(scene);
   this->Topology.Build(scene);
   const std::size_t count = scene.Surfaces.size();
   for (std::size_t k = 0; k < count; ++k)
@@ -235,8 +238,22 @@ std::vector<detail::Constraint2D> DiscontinuityMesher::Internals::Constraints(in
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+std::shared_ptr<const OccluderSet> ValidatedOccluders(const Scene& scene)
+{
+  ValidateScene(scene);
+  return std::make_shared<const OccluderSet>(scene);
+}
+} // namespace
+
 DiscontinuityMesher::DiscontinuityMesher(const Scene& scene)
-  : Internal(new Internals(scene))
+  : Internal(new Internals(scene, ValidatedOccluders(scene)))
+{
+}
+
+DiscontinuityMesher::DiscontinuityMesher(const std::shared_ptr<const PreparedScene>& scene)
+  : Internal(new Internals(scene->GetScene(), scene->GetOccluders()))
 {
 }
 

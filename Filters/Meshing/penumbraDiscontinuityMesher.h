@@ -17,6 +17,7 @@
 #define penumbraDiscontinuityMesher_h
 
 #include "penumbraMeshingModule.h" // for export macro
+#include "penumbraPreparedScene.h"
 #include "penumbraScene.h"
 #include "penumbraVector.h"
 
@@ -152,6 +153,8 @@ class PENUMBRAMESHING_EXPORT DiscontinuityMesher
 {
 public:
   explicit DiscontinuityMesher(const Scene& scene);
+  /// Mesh a prepared scene (already valid), sharing its occluder set.
+  explicit DiscontinuityMesher(const std::shared_ptr<const PreparedScene>& scene);
   ~DiscontinuityMesher();
   DiscontinuityMesher(DiscontinuityMesher&&) noexcept;
   DiscontinuityMesher& operator=(DiscontinuityMesher&&) noexcept;

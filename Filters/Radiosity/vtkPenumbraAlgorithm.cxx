@@ -2,6 +2,8 @@
 #include "vtkPenumbraAlgorithm.h"
 
 
+#include "penumbraPreparedScene.h"
+
 #include "vtkDataObject.h"
 #include "vtkInformationVector.h"
 
@@ -85,7 +87,28 @@ std::string vtkPenumbraAlgorithm::ErrorText(const std::string& message)
   return std::string();
 }
 
+void vtkPenumbraAlgorithm::SetPreparedScene(std::shared_ptr<const penumbra::PreparedScene> scene)
+{
+  this->Prepared = std::move(scene);
+}
+
+std::shared_ptr<const penumbra::PreparedScene> vtkPenumbraAlgorithm::GetPreparedScene() const
+{
+  return this->Prepared;
+}
+
+std::shared_ptr<const penumbra::PreparedScene> vtkPenumbraAlgorithm::Prepare(
+  const penumbra::Scene& scene)
+{
+  if (!this->Prepared || !this->Prepared->GetScene().IsIdentical(scene))
+  {
+    this->Prepared = std::make_shared<const penumbra::PreparedScene>(scene);
+  }
+  return this->Prepared;
+}
+
 void vtkPenumbraAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "PreparedScene: " << (this->Prepared ? "set" : "none") << "\n";
 }

@@ -24,7 +24,14 @@
 #include "vtkPenumbraFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <memory> // for std::shared_ptr
 #include <string> // for std::string
+
+namespace penumbra
+{
+class PreparedScene;
+struct Scene;
+}
 
 class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraAlgorithm : public vtkPolyDataAlgorithm
 {
@@ -43,6 +50,20 @@ public:
    */
   static std::string ErrorText(const std::string& message);
 
+#ifndef __VTK_WRAP__
+  /**
+   * C++ only: a scene prepared (validated, with its occluder set and Embree
+   * scene) by another stage of the same solve; vtkPenumbraSolver hands the
+   * mesher's to the evaluator and the shooter, so that a solve validates and
+   * prepares its scene once. A stage uses it only when its own scene is
+   * identical to the prepared one, and prepares its own otherwise. After a
+   * run, GetPreparedScene() is the scene the stage used (null for stages
+   * that prepare none).
+   */
+  void SetPreparedScene(std::shared_ptr<const penumbra::PreparedScene> scene);
+  std::shared_ptr<const penumbra::PreparedScene> GetPreparedScene() const;
+#endif
+
 protected:
   vtkPenumbraAlgorithm() = default;
   ~vtkPenumbraAlgorithm() override = default;
@@ -55,7 +76,16 @@ protected:
   virtual int Execute(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) = 0;
 
+#ifndef __VTK_WRAP__
+  /// The prepared scene for `scene`: the one set if identical, else a new
+  /// one (which validates `scene`, throwing penumbra::InputError).
+  std::shared_ptr<const penumbra::PreparedScene> Prepare(const penumbra::Scene& scene);
+#endif
+
 private:
+#ifndef __VTK_WRAP__
+  std::shared_ptr<const penumbra::PreparedScene> Prepared;
+#endif
   vtkPenumbraAlgorithm(const vtkPenumbraAlgorithm&) = delete;
   void operator=(const vtkPenumbraAlgorithm&) = delete;
 };

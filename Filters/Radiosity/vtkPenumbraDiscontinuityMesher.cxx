@@ -205,7 +205,7 @@ int vtkPenumbraDiscontinuityMesher::Execute(
   try
   {
     const penumbra::Scene scene = penumbra::SceneFromPolyData(input);
-    mesher.reset(new penumbra::DiscontinuityMesher(scene)); // validates the scene
+    mesher.reset(new penumbra::DiscontinuityMesher(this->Prepare(scene))); // validates it
     numberOfSurfaces = mesher->GetNumberOfSurfaces();
     for (vtkIdType id : this->ShooterIds)
     {

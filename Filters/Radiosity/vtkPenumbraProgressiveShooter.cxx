@@ -217,9 +217,9 @@ int vtkPenumbraProgressiveShooter::Execute(
   try
   {
     const penumbra::Scene scene = penumbra::SceneFromPolyData(sceneData);
-    penumbra::ValidateScene(scene);
+    const auto prepared = this->Prepare(scene); // validates the scene
     CollectSurfaceSamples(samples, radiance, surfaceIds, scene, bySurface, global);
-    shooter.reset(new penumbra::ProgressiveShooter(scene));
+    shooter.reset(new penumbra::ProgressiveShooter(prepared));
     shooter->SetSettings(ShootingSettings(this));
     shooter->SetParallelFor(penumbra::SMPParallelFor());
     sampling.Assign(scene, bySurface,

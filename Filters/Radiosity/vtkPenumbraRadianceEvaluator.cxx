@@ -19,6 +19,7 @@
 
 #include "penumbraEvaluationSettings.h"
 #include "penumbraExactEvaluator.h"
+#include "penumbraPreparedScene.h"
 #include "penumbraLinearSource.h"
 #include "penumbraShooterRadiance.h"
 #include "penumbraRayCastEvaluator.h"
@@ -241,9 +242,10 @@ std::vector<int> SelectShooters(const std::vector<vtkIdType>& shooterIds,
 class PointRadiance
 {
 public:
-  PointRadiance(const penumbra::Scene& scene, const std::vector<int>& shooters,
-    const std::map<int, penumbra::ShooterRadiance>& functions, const std::vector<int>& surfaceOf,
-    bool rayCast, double rayCastTolerance, bool includeEmission);
+  PointRadiance(const std::shared_ptr<const penumbra::PreparedScene>& prepared,
+    const std::vector<int>& shooters, const std::map<int, penumbra::ShooterRadiance>& functions,
+    const std::vector<int>& surfaceOf, bool rayCast, double rayCastTolerance,
+    bool includeEmission);
 
   penumbra::RGB operator()(int i, const penumbra::Vec3& x) const;
 
@@ -263,14 +265,15 @@ private:
   mutable vtkSMPThreadLocal<penumbra::LinearSourceWorkspace> LinearWorkspaces;
 };
 
-PointRadiance::PointRadiance(const penumbra::Scene& scene, const std::vector<int>& shooters,
-  const std::map<int, penumbra::ShooterRadiance>& functions, const std::vector<int>& surfaceOf,
-  bool rayCast, double rayCastTolerance, bool includeEmission)
-  : Scene(scene)
+PointRadiance::PointRadiance(const std::shared_ptr<const penumbra::PreparedScene>& prepared,
+  const std::vector<int>& shooters, const std::map<int, penumbra::ShooterRadiance>& functions,
+  const std::vector<int>& surfaceOf, bool rayCast, double rayCastTolerance, bool includeEmission)
+  : Scene(prepared->GetScene())
   , Shooters(shooters)
   , IncludeEmission(includeEmission)
-  , Evaluator(scene)
+  , Evaluator(prepared)
 {
+  const penumbra::Scene& scene = this->Scene;
   if (rayCast)
   {
     this->RayCaster.reset(new penumbra::RayCastEvaluator(scene));
@@ -404,13 +407,14 @@ int vtkPenumbraRadianceEvaluator::Execute(
   }
 
   penumbra::Scene scene;
+  std::shared_ptr<const penumbra::PreparedScene> prepared;
   std::vector<int> surfaceOf;
   std::vector<int> shooters;
   std::map<int, penumbra::ShooterRadiance> functions;
   try
   {
     scene = penumbra::SceneFromPolyData(sceneData);
-    penumbra::ValidateScene(scene);
+    prepared = this->Prepare(scene); // validates the scene
     const int numberOfSurfaces = static_cast<int>(scene.Surfaces.size());
     surfaceOf = SampleSurfaces(samples, numberOfSurfaces);
     functions = ShooterFunctions(shooterData, numberOfSurfaces);
@@ -423,7 +427,7 @@ int vtkPenumbraRadianceEvaluator::Execute(
     return 0;
   }
   this->UpdateProgress(0.0);
-  const PointRadiance evaluatePoint(scene, shooters, functions, surfaceOf,
+  const PointRadiance evaluatePoint(prepared, shooters, functions, surfaceOf,
     this->Method == RAY_CAST, this->RayCastTolerance, this->IncludeEmission);
 
   if (this->AdaptiveSampling && samples->GetNumberOfPolys() > 0)

@@ -158,6 +158,12 @@ int vtkPenumbraSolver::Execute(
                     << (observers[k].Error.empty() ? "failed" : observers[k].Error));
       return 0;
     }
+    if (k == 0)
+    {
+      // The scene is validated and prepared once, by the mesher.
+      evaluator->SetPreparedScene(mesher->GetPreparedScene());
+      shooter->SetPreparedScene(mesher->GetPreparedScene());
+    }
   }
   output->ShallowCopy(reconstructor->GetOutput());
   if (this->Indirect)

@@ -113,6 +113,15 @@ struct ProgressiveShooter::Internals
     , Energy(scene.EmittedPower())
   {
   }
+  /// Shares the prepared scene's occluder set and Embree scene.
+  explicit Internals(const std::shared_ptr<const PreparedScene>& scene)
+    : Exact(scene)
+    , SceneCopy(scene->GetScene())
+    , Prepared(scene)
+    , Samples(Exact.GetOccluders(), SceneCopy.Surfaces.size())
+    , Energy(SceneCopy.EmittedPower())
+  {
+  }
 
   /// A receiver of a shot, its shaft candidates, and its first work item
   /// (its evaluation points are items [First, First + their number)).
@@ -127,7 +136,8 @@ struct ProgressiveShooter::Internals
   {
     if (!this->Rays)
     {
-      this->Rays.reset(new RayCaster(this->SceneCopy));
+      this->Rays = this->Prepared ? this->Prepared->GetRayCaster()
+                                  : std::make_shared<const RayCaster>(this->SceneCopy);
     }
     return *this->Rays;
   }
@@ -155,7 +165,8 @@ struct ProgressiveShooter::Internals
 
   ExactEvaluator Exact;
   Scene SceneCopy;
-  std::unique_ptr<RayCaster> Rays;
+  std::shared_ptr<const PreparedScene> Prepared; // null when built from a Scene
+  std::shared_ptr<const RayCaster> Rays;
   ProgressiveShooterSettings Settings;
   ParallelFor Loop;
   ShotProgressCallback ShotProgress;
@@ -420,6 +431,11 @@ void ProgressiveShooter::Internals::Receive(
     }
     this->Samples.UpdateUnshotPower(rec.Id);
   }
+}
+
+ProgressiveShooter::ProgressiveShooter(const std::shared_ptr<const PreparedScene>& scene)
+  : Internal(new Internals(scene))
+{
 }
 
 ProgressiveShooter::ProgressiveShooter(const Scene& scene)

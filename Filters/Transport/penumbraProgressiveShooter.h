@@ -30,6 +30,7 @@
 
 #include "penumbraTransportModule.h" // for export macro
 #include "penumbraParallel.h"        // for ParallelFor
+#include "penumbraPreparedScene.h"
 #include "penumbraScene.h"
 #include "penumbraShootingEnergy.h"  // for ShotMethod, ShotRecord, ShootingEnergy
 #include "penumbraSurfaceSamples.h"  // for SurfaceSamples
@@ -204,6 +205,8 @@ class PENUMBRATRANSPORT_EXPORT ProgressiveShooter
 public:
   /// Prepare `scene` (geometry and materials are copied; the scene may be discarded).
   explicit ProgressiveShooter(const Scene& scene);
+  /// Shoot in a prepared scene, sharing its occluder set and Embree scene.
+  explicit ProgressiveShooter(const std::shared_ptr<const PreparedScene>& scene);
   ~ProgressiveShooter();
   ProgressiveShooter(const ProgressiveShooter&) = delete;
   ProgressiveShooter& operator=(const ProgressiveShooter&) = delete;

@@ -744,7 +744,18 @@ double VisibleFormFactor(const OccluderSet& occluders, const Vec3& x, const Vec3
 }
 
 ExactEvaluator::ExactEvaluator(const Scene& scene)
-  : Occluders(scene)
+  : Occluders(std::make_shared<const OccluderSet>(scene))
+{
+  this->CopyMaterials(scene);
+}
+
+ExactEvaluator::ExactEvaluator(const std::shared_ptr<const PreparedScene>& scene)
+  : Occluders(scene->GetOccluders())
+{
+  this->CopyMaterials(scene->GetScene());
+}
+
+void ExactEvaluator::CopyMaterials(const Scene& scene)
 {
   for (const Surface& s : scene.Surfaces)
   {
@@ -757,22 +768,22 @@ double ExactEvaluator::FormFactor(const Vec3& x, const Vec3& n, int receiverId, 
   VisibilityWorkspace& workspace, VisibleRegion* region) const
 {
   return Evaluate(
-    this->Occluders, x, n, shooterId, receiverId, nullptr, 0, true, workspace, region);
+    *this->Occluders, x, n, shooterId, receiverId, nullptr, 0, true, workspace, region);
 }
 
 double ExactEvaluator::FormFactor(const Vec3& x, const Vec3& n, int receiverId, int shooterId,
   const std::vector<int>& shaftCandidates, VisibilityWorkspace& workspace,
   VisibleRegion* region) const
 {
-  return Evaluate(this->Occluders, x, n, shooterId, receiverId, shaftCandidates.data(),
+  return Evaluate(*this->Occluders, x, n, shooterId, receiverId, shaftCandidates.data(),
     static_cast<int>(shaftCandidates.size()), false, workspace, region);
 }
 
 RGB ExactEvaluator::ContributedRadiance(
   const Vec3& x, const Vec3& n, int receiverId, int shooterId, VisibilityWorkspace& workspace) const
 {
-  if (receiverId < 0 || shooterId < 0 || shooterId >= this->Occluders.GetNumberOfPolygons() ||
-    receiverId >= this->Occluders.GetNumberOfPolygons())
+  if (receiverId < 0 || shooterId < 0 || shooterId >= this->Occluders->GetNumberOfPolygons() ||
+    receiverId >= this->Occluders->GetNumberOfPolygons())
   {
     return RGB();
   }

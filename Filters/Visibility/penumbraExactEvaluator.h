@@ -42,10 +42,12 @@
 
 #include "penumbraVisibilityModule.h" // for export macro
 #include "penumbraOccluderSet.h"
+#include "penumbraPreparedScene.h"
 #include "penumbraScene.h"
 #include "penumbraVector.h"
 
 #include <utility>
+#include <memory>
 #include <vector>
 
 namespace penumbra
@@ -146,9 +148,11 @@ class PENUMBRAVISIBILITY_EXPORT ExactEvaluator
 public:
   /// Prepare `scene` (its geometry is copied; the scene may be discarded).
   explicit ExactEvaluator(const Scene& scene);
+  /// Share the occluder set of a prepared scene.
+  explicit ExactEvaluator(const std::shared_ptr<const PreparedScene>& scene);
 
   /// The prepared scene.
-  const OccluderSet& GetOccluders() const { return this->Occluders; }
+  const OccluderSet& GetOccluders() const { return *this->Occluders; }
 
   /**
    * Form factor from the differential area at x (on receiver `receiverId`,
@@ -165,7 +169,7 @@ public:
    */
   bool ShaftCandidates(int shooterId, int receiverId, std::vector<int>& candidates) const
   {
-    return this->Occluders.ShaftCandidates(shooterId, receiverId, candidates);
+    return this->Occluders->ShaftCandidates(shooterId, receiverId, candidates);
   }
 
   /// Per-pair variant of FormFactor: occluders are taken from `shaftCandidates`.
@@ -182,7 +186,9 @@ public:
     VisibilityWorkspace& workspace) const;
 
 private:
-  OccluderSet Occluders;
+  void CopyMaterials(const Scene& scene);
+
+  std::shared_ptr<const OccluderSet> Occluders;
   std::vector<RGB> Reflectance;
   std::vector<RGB> Emission;
 };
