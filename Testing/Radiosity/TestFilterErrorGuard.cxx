@@ -6,6 +6,8 @@
 #include "vtkPenumbraAlgorithm.h"
 #include "vtkPenumbraSceneConversion.h" // SMPParallelFor (private header)
 
+#include "penumbraTesting.h"
+
 #include "vtkCommand.h"
 #include "vtkExecutive.h"
 #include "vtkInformationVector.h"
@@ -22,17 +24,6 @@
 
 namespace
 {
-int failures = 0;
-
-void Expect(bool ok, const std::string& what)
-{
-  if (!ok)
-  {
-    ++failures;
-    std::cerr << "FAILED: " << what << std::endl;
-  }
-}
-
 enum class Failure
 {
   None,
@@ -101,15 +92,15 @@ void Run(Failure mode, const std::string& expectedText)
   const std::string what = "mode " + std::to_string(static_cast<int>(mode)) + ": ";
   if (expectedText.empty())
   {
-    Expect(status == 1, what + "a filter that succeeds returns 1");
-    Expect(catcher->Text.empty(), what + "no error, got '" + catcher->Text + "'");
-    Expect(filter->GetOutput()->GetNumberOfPoints() == 1, what + "output kept");
+    PENUMBRA_EXPECT_MSG(status == 1, what + "a filter that succeeds returns 1");
+    PENUMBRA_EXPECT_MSG(catcher->Text.empty(), what + "no error, got '" + catcher->Text + "'");
+    PENUMBRA_EXPECT_MSG(filter->GetOutput()->GetNumberOfPoints() == 1, what + "output kept");
     return;
   }
-  Expect(status == 0, what + "Update returns 0");
-  Expect(catcher->Text == expectedText,
+  PENUMBRA_EXPECT_MSG(status == 0, what + "Update returns 0");
+  PENUMBRA_EXPECT_MSG(catcher->Text == expectedText,
     what + "error text '" + catcher->Text + "', expected '" + expectedText + "'");
-  Expect(filter->GetOutput()->GetNumberOfPoints() == 0, what + "output emptied");
+  PENUMBRA_EXPECT_MSG(filter->GetOutput()->GetNumberOfPoints() == 0, what + "output emptied");
 }
 } // namespace
 
@@ -126,17 +117,15 @@ int TestFilterErrorGuard(int, char*[])
                              "array 'Reflectance'\n   (cell 3)\n\nERROR: In /src/vtkExecutive.cxx, "
                              "line 741\nvtkCompositeDataPipeline (0x1): Algorithm vtkX returned "
                              "failure for request: vtkInformation\n\n";
-  Expect(vtkPenumbraAlgorithm::ErrorText(window) == "missing cell array 'Reflectance' (cell 3)",
+  PENUMBRA_EXPECT_MSG(vtkPenumbraAlgorithm::ErrorText(window) == "missing cell array 'Reflectance' (cell 3)",
     "first error of an output window: '" + vtkPenumbraAlgorithm::ErrorText(window) + "'");
-  Expect(vtkPenumbraAlgorithm::ErrorText(window.substr(window.find("ERROR: In /src/vtkE"))).empty(),
+  PENUMBRA_EXPECT_MSG(vtkPenumbraAlgorithm::ErrorText(window.substr(window.find("ERROR: In /src/vtkE"))).empty(),
     "the executive's failure alone is no error text");
-  Expect(vtkPenumbraAlgorithm::ErrorText("plain text\n") == "plain text", "plain message");
-  Expect(vtkPenumbraAlgorithm::ErrorText("").empty(), "empty message");
+  PENUMBRA_EXPECT_MSG(vtkPenumbraAlgorithm::ErrorText("plain text\n") == "plain text", "plain message");
+  PENUMBRA_EXPECT_MSG(vtkPenumbraAlgorithm::ErrorText("").empty(), "empty message");
 
-  if (failures == 0)
-  {
-    std::cout << "all expectations passed" << std::endl;
-  }
+  const int failures = penumbra::testing::FailureCount();
+  std::cout << (failures == 0 ? "all expectations passed" : "expectations failed") << std::endl;
   return failures == 0 ? 0 : 1;
 }
 

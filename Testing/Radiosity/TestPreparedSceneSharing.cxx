@@ -4,6 +4,7 @@
 // vtkPenumbraSolver does), with the same results as when each prepares its
 // own; a prepared scene of another scene is not used.
 #include "penumbraPreparedScene.h"
+#include "penumbraTesting.h"
 
 #include "vtkDataArray.h"
 #include "vtkNew.h"
@@ -19,17 +20,6 @@
 
 namespace
 {
-int failures = 0;
-
-void Expect(bool ok, const std::string& what)
-{
-  if (!ok)
-  {
-    ++failures;
-    std::cerr << "FAILED: " << what << std::endl;
-  }
-}
-
 /// Radiance of the shooter's output, channel 0, at every point.
 std::vector<double> Radiance(vtkPolyData* data)
 {
@@ -67,7 +57,7 @@ std::vector<double> Solve(const char* sceneName, bool share,
   }
   shooter->Update();
   shared = evaluator->GetPreparedScene() == prepared && shooter->GetPreparedScene() == prepared;
-  Expect(mesher->GetPreparedScene() != nullptr, "the mesher prepares its scene");
+  PENUMBRA_EXPECT_MSG(mesher->GetPreparedScene() != nullptr, "the mesher prepares its scene");
   return Radiance(shooter->GetOutput());
 }
 } // namespace
@@ -76,10 +66,10 @@ int main()
 {
   bool shared = false;
   const std::vector<double> own = Solve("cornell", false, nullptr, shared);
-  Expect(!shared, "without sharing, each stage prepares its own scene");
+  PENUMBRA_EXPECT_MSG(!shared, "without sharing, each stage prepares its own scene");
   const std::vector<double> fromMesher = Solve("cornell", true, nullptr, shared);
-  Expect(shared, "handed the mesher's prepared scene, the evaluator and the shooter use it");
-  Expect(!own.empty() && own == fromMesher, "sharing the prepared scene changes no value");
+  PENUMBRA_EXPECT_MSG(shared, "handed the mesher's prepared scene, the evaluator and the shooter use it");
+  PENUMBRA_EXPECT_MSG(!own.empty() && own == fromMesher, "sharing the prepared scene changes no value");
 
   // A prepared scene of another scene is ignored: the stages prepare their own.
   vtkNew<vtkPenumbraSceneSource> other;
@@ -89,12 +79,10 @@ int main()
   otherMesher->Update();
   const std::vector<double> foreign =
     Solve("cornell", true, otherMesher->GetPreparedScene(), shared);
-  Expect(!shared, "a prepared scene of another scene is not used");
-  Expect(foreign == own, "and the result is the scene's own");
+  PENUMBRA_EXPECT_MSG(!shared, "a prepared scene of another scene is not used");
+  PENUMBRA_EXPECT_MSG(foreign == own, "and the result is the scene's own");
 
-  if (failures == 0)
-  {
-    std::cout << "all expectations passed" << std::endl;
-  }
+  const int failures = penumbra::testing::FailureCount();
+  std::cout << (failures == 0 ? "all expectations passed" : "expectations failed") << std::endl;
   return failures == 0 ? 0 : 1;
 }

@@ -89,6 +89,10 @@ inline double RelativeError(double actual, double expected)
     penumbra::testing::Register(#name, &name);                                                     \
   static void name()
 
+/// An expectation with its own message (e.g. naming the values compared).
+#define PENUMBRA_EXPECT_MSG(cond, message)                                                         \
+  penumbra::testing::Report(static_cast<bool>(cond), __FILE__, __LINE__, (message))
+
 #define PENUMBRA_EXPECT(cond)                                                                      \
   penumbra::testing::Report(static_cast<bool>(cond), __FILE__, __LINE__, #cond)
 
