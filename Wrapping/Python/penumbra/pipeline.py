@@ -139,7 +139,8 @@ def solve(scene, threads=None, progress=None, method="discontinuity", **settings
 
     settings: any setting of that filter under its snake_case name, e.g.
     indirect=False (direct light only), unshot_fraction=1e-4,
-    exact_power_fraction=0.2, maximum_indirect_samples=400000,
+    exact_power_fraction=0.2, maximum_indirect_samples=400000 (or
+    indirect_samples=400000),
     sampling_tolerance=5e-4; for the standard method element_size,
     patch_size, ..., and form_factor="analytic" or "disc". Settings left out
     or None keep the filter's defaults (`penumbra settings` lists them).
@@ -150,6 +151,8 @@ def solve(scene, threads=None, progress=None, method="discontinuity", **settings
     from vtkmodules.vtkCommonCore import vtkCommand, vtkSMPTools
     from vtkmodules.vtkCommonExecutionModel import vtkTrivialProducer
 
+    if "indirect_samples" in settings:  # the short name of maximum_indirect_samples
+        settings.setdefault("maximum_indirect_samples", settings.pop("indirect_samples"))
     if method not in METHODS:
         raise penumbra.PenumbraError("unknown method '%s': give one of %s"
                                      % (method, ", ".join(METHODS)))
