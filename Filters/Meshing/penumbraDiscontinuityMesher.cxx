@@ -56,8 +56,8 @@ DiscontinuityMeshStatistics& DiscontinuityMeshStatistics::operator+=(
 
 struct DiscontinuityMesher::Internals
 {
-  Scene SceneCopy;
-  std::shared_ptr<const OccluderSet> OccluderStorage; // shared with the solve's other stages
+  std::shared_ptr<const PreparedScene> Prepared; // shared with the solve's other stages
+  const Scene& ValidScene;
   const OccluderSet& Occluders;
   detail::SceneTopology Topology;
   /// (surface, emitted power) of every surface with positive power, and their
@@ -65,8 +65,7 @@ struct DiscontinuityMesher::Internals
   std::vector<std::pair<int, double>> EmitterPower;
   double TotalPower = 0.0;
 
-  /// `scene` must be valid.
-  Internals(const Scene& scene, std::shared_ptr<const OccluderSet> occluders);
+  explicit Internals(std::shared_ptr<const PreparedScene> scene);
 
   void Check(int receiverId, const DiscontinuityMeshSettings& settings) const;
   std::vector<int> Select(const DiscontinuityMeshSettings& settings) const;
@@ -78,12 +77,12 @@ struct DiscontinuityMesher::Internals
     DiscontinuityMeshStatistics& stats) const;
 };
 
-DiscontinuityMesher::Internals::Internals(
-  const Scene& scene, std::shared_ptr<const OccluderSet> occluders)
-  : SceneCopy(scene)
-  , OccluderStorage(std::move(occluders))
-  , Occluders(*OccluderStorage)
+DiscontinuityMesher::Internals::Internals(std::shared_ptr<const PreparedScene> prepared)
+  : Prepared(std::move(prepared))
+  , ValidScene(Prepared->GetScene())
+  , Occluders(*Prepared->GetOccluders())
 {
+  const Scene& scene = this->ValidScene;
   this->Topology.Build(scene);
   const std::size_t count = scene.Surfaces.size();
   for (std::size_t k = 0; k < count; ++k)
@@ -203,17 +202,17 @@ std::vector<detail::Segment2> DiscontinuityMesher::Internals::Boundaries(int rec
   // over the receiver (sum over shooters). Shadows whose jump cannot reach
   // JumpThreshold times it are not even traced (see ShadowEvents::Faint).
   const double minimumJump =
-    detail::MinimumJump(this->Topology, this->SceneCopy, receiverId, shooters, settings);
+    detail::MinimumJump(this->Topology, this->ValidScene, receiverId, shooters, settings);
   for (int s : shooters)
   {
     if (s != receiverId)
     {
-      detail::ShadowEvents(this->Topology, this->Occluders, this->SceneCopy, settings, frame,
+      detail::ShadowEvents(this->Topology, this->Occluders, this->ValidScene, settings, frame,
         receiverId, s, minimumJump, segments, stats)
         .Run();
     }
   }
-  detail::DropFaintShadows(this->Topology, this->SceneCopy, receiverId, settings, frame,
+  detail::DropFaintShadows(this->Topology, this->ValidScene, receiverId, settings, frame,
     minimumJump, firstShadow, segments);
   for (std::size_t k = firstShadow; k < segments.size(); ++k)
   {
@@ -238,22 +237,13 @@ std::vector<detail::Constraint2D> DiscontinuityMesher::Internals::Constraints(in
 }
 
 //------------------------------------------------------------------------------
-namespace
-{
-std::shared_ptr<const OccluderSet> ValidatedOccluders(const Scene& scene)
-{
-  ValidateScene(scene);
-  return std::make_shared<const OccluderSet>(scene);
-}
-} // namespace
-
 DiscontinuityMesher::DiscontinuityMesher(const Scene& scene)
-  : Internal(new Internals(scene, ValidatedOccluders(scene)))
+  : DiscontinuityMesher(std::make_shared<const PreparedScene>(scene)) // validates it
 {
 }
 
 DiscontinuityMesher::DiscontinuityMesher(const std::shared_ptr<const PreparedScene>& scene)
-  : Internal(new Internals(scene->GetScene(), scene->GetOccluders()))
+  : Internal(new Internals(scene))
 {
 }
 

@@ -147,21 +147,13 @@ def _positive_int(text):
     return value
 
 
-def _setting_range(filter_class, name):
-    """(default, minimum, maximum) of a filter's setting, read from the filter."""
-    instance = filter_class()
-    return (getattr(instance, "Get" + name)(), getattr(instance, "Get%sMinValue" % name)(),
-            getattr(instance, "Get%sMaxValue" % name)())
-
-
-def _in_range(filter_class, name):
-    """An argparse type accepting the values the filter's setting accepts."""
-    _, low, high = _setting_range(filter_class, name)
-
+def _in_range(setting):
+    """An argparse type accepting the values a filter setting accepts."""
     def convert(text):
         value = float(text)
-        if not low <= value <= high:
-            raise argparse.ArgumentTypeError("must be in [%g, %g], got %s" % (low, high, text))
+        if not setting.minimum <= value <= setting.maximum:
+            raise argparse.ArgumentTypeError("must be in [%g, %g], got %s"
+                                             % (setting.minimum, setting.maximum, text))
         return value
     return convert
 
@@ -189,22 +181,20 @@ def build_parser():
                             "pipeline; 'standard': the baseline it beat (uniform mesh, "
                             "progressive refinement, ray-cast form factors, adaptive "
                             "subdivision, Gouraud display)")
-    import penumbra
-    standard = penumbra.vtkPenumbraStandardRadiositySolver
-    element_size = _setting_range(standard, "ElementSize")
-    unshot = _setting_range(penumbra.vtkPenumbraSolver, "UnshotFraction")
-    solve.add_argument("--element-size", type=_in_range(standard, "ElementSize"), metavar="S",
+    from penumbra import settings as filter_settings
+    element_size = filter_settings.find("vtkPenumbraStandardRadiositySolver", "ElementSize")
+    unshot = filter_settings.find("vtkPenumbraSolver", "UnshotFraction")
+    solve.add_argument("--element-size", type=_in_range(element_size), metavar="S",
                        help="--method standard: longest initial element edge relative to the "
-                            "scene's size, in [%g, %g] (default %g)"
-                            % (element_size[1], element_size[2], element_size[0]))
+                            "scene's size, in %s (default %s)"
+                            % (element_size.formatted_range(), element_size.formatted_default()))
     solve.add_argument("--direct-only", action="store_true",
                        help="direct light only (no progressive shooting)")
     solve.add_argument("--unshot-fraction", "--unshot", dest="unshot_fraction",
-                       type=_in_range(penumbra.vtkPenumbraSolver, "UnshotFraction"),
-                       default=None, metavar="F",
+                       type=_in_range(unshot), default=None, metavar="F",
                        help="stop shooting when the unshot power is below F times the "
-                            "emitted power, in [%g, %g] (default %g)"
-                            % (unshot[1], unshot[2], unshot[0]))
+                            "emitted power, in %s (default %s)"
+                            % (unshot.formatted_range(), unshot.formatted_default()))
     solve.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     solve.set_defaults(handler=_command_solve)
 

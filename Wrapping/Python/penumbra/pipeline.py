@@ -37,21 +37,13 @@ def build_pipeline(scene_port, minimum_angle=None, subdivision_level=None, indir
                    unshot_fraction=None, exact_power_fraction=None):
     """The filters of the pipeline, connected after `scene_port` (an algorithm
     output port producing a scene), as vtkPenumbraSolver wires them inside
-    (settings left None take its defaults). Returns them in order as a dict,
-    for whoever needs the stages themselves."""
+    (settings left None keep the stages' defaults, which are the solver's).
+    Returns them in order as a dict, for whoever needs the stages themselves."""
     import penumbra
-
-    defaults = penumbra.vtkPenumbraSolver()
-    minimum_angle = defaults.GetMinimumAngle() if minimum_angle is None else minimum_angle
-    subdivision_level = (defaults.GetSubdivisionLevel() if subdivision_level is None
-                         else subdivision_level)
-    unshot_fraction = defaults.GetUnshotFraction() if unshot_fraction is None else unshot_fraction
-    exact_power_fraction = (defaults.GetExactPowerFraction() if exact_power_fraction is None
-                            else exact_power_fraction)
 
     mesher = penumbra.vtkPenumbraDiscontinuityMesher()
     mesher.SetInputConnection(scene_port)
-    mesher.SetMinimumAngle(minimum_angle)
+    apply_settings(mesher, "vtkPenumbraDiscontinuityMesher", {"minimum_angle": minimum_angle})
     evaluator = penumbra.vtkPenumbraRadianceEvaluator()
     evaluator.SetInputConnection(0, mesher.GetOutputPort())
     evaluator.SetSceneConnection(scene_port)
@@ -61,13 +53,15 @@ def build_pipeline(scene_port, minimum_angle=None, subdivision_level=None, indir
         shooter = penumbra.vtkPenumbraProgressiveShooter()
         shooter.SetInputConnection(0, evaluator.GetOutputPort())
         shooter.SetSceneConnection(scene_port)
-        shooter.SetUnshotFraction(unshot_fraction)
-        shooter.SetExactPowerFraction(exact_power_fraction)
+        apply_settings(shooter, "vtkPenumbraProgressiveShooter",
+                       {"unshot_fraction": unshot_fraction,
+                        "exact_power_fraction": exact_power_fraction})
         stages["shooter"] = shooter
         last = shooter
     reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
     reconstructor.SetInputConnection(last.GetOutputPort())
-    reconstructor.SetSubdivisionLevel(subdivision_level)
+    apply_settings(reconstructor, "vtkPenumbraRadianceReconstructor",
+                   {"subdivision_level": subdivision_level})
     stages["reconstructor"] = reconstructor
     return stages
 
@@ -88,14 +82,11 @@ def build_standard(scene_port, unshot_fraction=None, element_size=None, patch_si
                                      % form_factor)
     solver.SetFormFactorMode(modes[form_factor])
     solver.SetInputConnection(scene_port)
-    for setter, value in ((solver.SetUnshotFraction, unshot_fraction),
-                          (solver.SetElementSize, element_size),
-                          (solver.SetPatchSize, patch_size),
-                          (solver.SetSubdivisionThreshold, subdivision_threshold),
-                          (solver.SetMaximumSubdivisionDepth, maximum_subdivision_depth),
-                          (solver.SetShooterSamples, shooter_samples)):
-        if value is not None:
-            setter(value)
+    apply_settings(solver, "vtkPenumbraStandardRadiositySolver",
+                   {"unshot_fraction": unshot_fraction, "element_size": element_size,
+                    "patch_size": patch_size, "subdivision_threshold": subdivision_threshold,
+                    "maximum_subdivision_depth": maximum_subdivision_depth,
+                    "shooter_samples": shooter_samples})
     return {"standard": solver}
 
 

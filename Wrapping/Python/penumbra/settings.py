@@ -90,6 +90,11 @@ def filter_settings(class_name):
     return result
 
 
+def find(class_name, name):
+    """One setting of a filter (see filter_settings)."""
+    return next(s for s in filter_settings(class_name) if s.name == name)
+
+
 def markdown():
     """Documentation/settings.md: one table per filter."""
     lines = ["# Settings", "",
