@@ -21,6 +21,7 @@
 #include "penumbraTransportSettings.h"
 
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <sstream>
 #include <unordered_map>
@@ -100,8 +101,26 @@ void CollectSurfaceSamples(vtkPolyData* samples, vtkDataArray* radiance,
     map.emplace(id, k);
     return k;
   };
+  // Discontinuity lines of order 0 and 1, where the radiance may kink or
+  // jump: their segments become the surfaces' creases once the triangles
+  // have numbered the points.
+  vtkDataArray* orders = samples->GetCellData()->GetArray("DiscontinuityOrder");
+  std::vector<std::pair<int, std::array<vtkIdType, 2>>> creases;
   penumbra::ForEachCell(samples,
     [&](vtkIdType cellId, int kind, vtkIdType npts, const vtkIdType* pts) {
+      if (kind == 1 && orders)
+      {
+        const double order = orders->GetComponent(cellId, 0);
+        const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
+        if ((order == 0.0 || order == 1.0) && surface >= 0 && surface < numberOfSurfaces)
+        {
+          for (vtkIdType k = 0; k + 1 < npts; ++k)
+          {
+            creases.push_back({ surface, { pts[k], pts[k + 1] } });
+          }
+        }
+        return true;
+      }
       if (kind != 2)
       {
         return true; // only the triangles carry samples to shoot from
@@ -122,6 +141,20 @@ void CollectSurfaceSamples(vtkPolyData* samples, vtkDataArray* radiance,
         { localId(surface, pts[0]), localId(surface, pts[1]), localId(surface, pts[2]) });
       return true;
     });
+  for (const auto& crease : creases)
+  {
+    const auto map = local.find(crease.first);
+    if (map == local.end())
+    {
+      continue;
+    }
+    const auto a = map->second.find(crease.second[0]);
+    const auto b = map->second.find(crease.second[1]);
+    if (a != map->second.end() && b != map->second.end())
+    {
+      bySurface[crease.first].Creases.push_back({ a->second, b->second });
+    }
+  }
 }
 
 /// The output's `Radiance`: the input's, with the shot samples' totals.

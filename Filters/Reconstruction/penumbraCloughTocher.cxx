@@ -4,6 +4,7 @@
  * @brief The Clough-Tocher element: incentre split of each triangle, control nets
  * from corner values and sector gradients, evaluation by de Casteljau.
  */
+#include "penumbraElementIntegral.h"
 #include "penumbraReconstructionInternals.h"
 #include "penumbraPointLocation.h"
 #include "penumbraSampleMeshTopology.h"
@@ -82,68 +83,51 @@ inline double EvaluateMicro(
 } // namespace
 
 //------------------------------------------------------------------------------
-//------------------------------------------------------------------------------
-void Reconstruction::Internals::ComputeGeometry()
+void detail::ComputeTriangleGeometry(const double* const p[3], TriangleGeometry& g)
 {
-  const int nt = this->Mesh.GetNumberOfTriangles();
-  this->Geometry.resize(nt);
-  for (int t = 0; t < nt; ++t)
+  g.Area2 = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+  double len[3];
+  for (int i = 0; i < 3; ++i)
   {
-    TriangleGeometry& g = this->Geometry[t];
-    const int* tri = this->T(t);
-    const double* p[3] = { this->P(tri[0]), this->P(tri[1]), this->P(tri[2]) };
-    g.Area2 = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
-    double len[3];
-    for (int i = 0; i < 3; ++i)
-    {
-      // Edge opposite corner i, from corner i+1 to corner i+2.
-      const double* a = p[Next(i)];
-      const double* b = p[Prev(i)];
-      const double eu = b[0] - a[0];
-      const double ev = b[1] - a[1];
-      len[i] = std::hypot(eu, ev);
-      g.GradB[i][0] = -ev / g.Area2;
-      g.GradB[i][1] = eu / g.Area2;
-    }
-    const double perimeter = len[0] + len[1] + len[2];
-    g.Diameter = std::max({ len[0], len[1], len[2] });
-    g.Split[0] = 0.0;
-    g.Split[1] = 0.0;
-    for (int i = 0; i < 3; ++i)
-    {
-      // Incentre: barycentrics proportional to the opposite edge lengths.
-      g.Sigma[i] = len[i] / perimeter;
-      g.Split[0] += g.Sigma[i] * p[i][0];
-      g.Split[1] += g.Sigma[i] * p[i][1];
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      // The incircle touches edge k at distance (semi-perimeter - |edge
-      // opposite corner k+1|) from corner k+1: always strictly inside.
-      const double fromP = 0.5 * perimeter - len[Next(k)];
-      g.Tau[k] = std::min(1.0, std::max(0.0, fromP / len[k]));
-    }
+    // Edge opposite corner i, from corner i+1 to corner i+2.
+    const double* a = p[Next(i)];
+    const double* b = p[Prev(i)];
+    const double eu = b[0] - a[0];
+    const double ev = b[1] - a[1];
+    len[i] = std::hypot(eu, ev);
+    g.GradB[i][0] = -ev / g.Area2;
+    g.GradB[i][1] = eu / g.Area2;
+  }
+  const double perimeter = len[0] + len[1] + len[2];
+  g.Diameter = std::max({ len[0], len[1], len[2] });
+  g.Split[0] = 0.0;
+  g.Split[1] = 0.0;
+  for (int i = 0; i < 3; ++i)
+  {
+    // Incentre: barycentrics proportional to the opposite edge lengths.
+    g.Sigma[i] = len[i] / perimeter;
+    g.Split[0] += g.Sigma[i] * p[i][0];
+    g.Split[1] += g.Sigma[i] * p[i][1];
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    // The incircle touches edge k at distance (semi-perimeter - |edge
+    // opposite corner k+1|) from corner k+1: always strictly inside.
+    const double fromP = 0.5 * perimeter - len[Next(k)];
+    g.Tau[k] = std::min(1.0, std::max(0.0, fromP / len[k]));
   }
 }
 
 //------------------------------------------------------------------------------
-void Reconstruction::Internals::ComputeNet(int t, int channel, Net& net) const
+void detail::ComputeNet(const TriangleGeometry& geo, const double* const p[3], const double f[3],
+  const double* const g[3], Net& net)
 {
-  const TriangleGeometry& geo = this->Geometry[t];
-  const int* tri = this->T(t);
-  const double* p[3] = { this->P(tri[0]), this->P(tri[1]), this->P(tri[2]) };
-  const double* g[3];
-  for (int i = 0; i < 3; ++i)
-  {
-    net.F[i] = this->Value(tri[i], channel);
-    g[i] = this->SectorGradient.data() +
-      (static_cast<std::size_t>(this->CornerSector[3 * t + i]) * this->NC + channel) * 2;
-  }
   // Gradient increments toward the neighbouring control points.
   double e[3][3];
   double a[3];
   for (int i = 0; i < 3; ++i)
   {
+    net.F[i] = f[i];
     for (int j = 0; j < 3; ++j)
     {
       if (j != i)
@@ -174,6 +158,84 @@ void Reconstruction::Internals::ComputeNet(int t, int channel, Net& net) const
       geo.Sigma[Prev(i)] * net.M[Next(i)];
   }
   net.Z = geo.Sigma[0] * net.C[0] + geo.Sigma[1] * net.C[1] + geo.Sigma[2] * net.C[2];
+}
+
+//------------------------------------------------------------------------------
+double detail::NetIntegral(const TriangleGeometry& geo, const Net& n)
+{
+  // Micro-triangle k (corners k+1, k+2 and the split point) has Sigma[k] of
+  // the area; a cubic Bezier triangle integrates to its area times the mean
+  // of its 10 control points.
+  double sum = 0.0;
+  for (int k = 0; k < 3; ++k)
+  {
+    const int P = Next(k);
+    const int Q = Prev(k);
+    const double points = n.F[P] + n.F[Q] + n.Z + n.E[P][Q] + n.E[Q][P] + n.A[P] + n.A[Q] +
+      n.M[k] + n.C[P] + n.C[Q];
+    sum += geo.Sigma[k] * points / 10.0;
+  }
+  return 0.5 * std::abs(geo.Area2) * sum;
+}
+
+//------------------------------------------------------------------------------
+void CloughTocherIntegralWeights(
+  const double corners[3][2], double valueWeights[3], double gradientWeights[3][2])
+{
+  const double* const p[3] = { corners[0], corners[1], corners[2] };
+  TriangleGeometry geo;
+  detail::ComputeTriangleGeometry(p, geo);
+  // The integral is linear in the corner values and gradients: take it for
+  // each unit input.
+  const double zero[2] = { 0.0, 0.0 };
+  for (int i = 0; i < 3; ++i)
+  {
+    double f[3] = { 0.0, 0.0, 0.0 };
+    f[i] = 1.0;
+    const double* const g[3] = { zero, zero, zero };
+    Net net;
+    detail::ComputeNet(geo, p, f, g, net);
+    valueWeights[i] = detail::NetIntegral(geo, net);
+    for (int d = 0; d < 2; ++d)
+    {
+      const double f0[3] = { 0.0, 0.0, 0.0 };
+      double unit[2] = { 0.0, 0.0 };
+      unit[d] = 1.0;
+      const double* gi[3] = { zero, zero, zero };
+      gi[i] = unit;
+      detail::ComputeNet(geo, p, f0, gi, net);
+      gradientWeights[i][d] = detail::NetIntegral(geo, net);
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void Reconstruction::Internals::ComputeGeometry()
+{
+  const int nt = this->Mesh.GetNumberOfTriangles();
+  this->Geometry.resize(nt);
+  for (int t = 0; t < nt; ++t)
+  {
+    const int* tri = this->T(t);
+    const double* const p[3] = { this->P(tri[0]), this->P(tri[1]), this->P(tri[2]) };
+    detail::ComputeTriangleGeometry(p, this->Geometry[t]);
+  }
+}
+
+//------------------------------------------------------------------------------
+void Reconstruction::Internals::ComputeNet(int t, int channel, Net& net) const
+{
+  const int* tri = this->T(t);
+  const double* const p[3] = { this->P(tri[0]), this->P(tri[1]), this->P(tri[2]) };
+  double f[3];
+  const double* g[3];
+  for (int i = 0; i < 3; ++i)
+  {
+    f[i] = this->Value(tri[i], channel);
+    g[i] = this->SectorGradient.data() +
+      (static_cast<std::size_t>(this->CornerSector[3 * t + i]) * this->NC + channel) * 2;
+  }
+  detail::ComputeNet(this->Geometry[t], p, f, g, net);
 }
 
 //------------------------------------------------------------------------------

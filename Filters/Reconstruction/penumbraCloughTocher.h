@@ -42,6 +42,17 @@ struct Net
 /// The 19 control points of a net, in a fixed order.
 void NetPoints(const Net& n, double out[19]);
 
+/// The element's geometry for the triangle of 2D corners p.
+void ComputeTriangleGeometry(const double* const p[3], TriangleGeometry& geo);
+
+/// The net of the triangle of corners p for corner values f and corner
+/// gradients g (d/du, d/dv each).
+void ComputeNet(const TriangleGeometry& geo, const double* const p[3], const double f[3],
+  const double* const g[3], Net& net);
+
+/// Integral of the element over its triangle.
+double NetIntegral(const TriangleGeometry& geo, const Net& net);
+
 } // namespace detail
 } // namespace penumbra
 

@@ -65,7 +65,7 @@ ShootingEnergy EnergyBookkeeping::InitialEnergy(const Scene& scene, const Sample
     {
       reflected[k] = Difference(s.Total[k], surface.Emission);
     }
-    const RGB power = IntegrateLinear(s, samples.Areas[i], reflected) * Pi;
+    const RGB power = samples.Integral(static_cast<int>(i), reflected) * Pi;
     for (int c = 0; c < 3; ++c)
     {
       const double rho = surface.Reflectance[c];
@@ -88,12 +88,19 @@ void EnergyBookkeeping::AddReceived(ShotRecord& record, const RGB& incident, con
 
 void EnergyBookkeeping::CloseShot(ShotRecord& record, const SampleSet& samples)
 {
-  record.Escaped = Difference(record.Power, record.Incident);
+  record.Absorbed += record.Backs;
+  record.Escaped = Difference(Difference(record.Power, record.Incident), record.Backs);
   this->Energy.ShotAbsorbed += record.Absorbed;
   this->Energy.ShotEscaped += record.Escaped;
   this->Energy.Unshot = samples.TotalUnshotPower();
   record.UnshotAfter = this->Energy.Unshot.Mean();
 }
 
-} // namespace penumbra
+void EnergyBookkeeping::CloseTail(const RGB& absorbed, const RGB& escaped, const SampleSet& samples)
+{
+  this->Energy.ShotAbsorbed += absorbed;
+  this->Energy.ShotEscaped += escaped;
+  this->Energy.Unshot = samples.TotalUnshotPower();
+}
 
+} // namespace penumbra

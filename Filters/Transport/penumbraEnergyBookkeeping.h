@@ -61,6 +61,10 @@ public:
   /// sums, and the unshot power left (after the receivers' updates).
   void CloseShot(ShotRecord& record, const SampleSet& samples);
 
+  /// The sum of the sweeps' tail (penumbraSweepTail.h) spent the unshot
+  /// power as `absorbed` and `escaped`.
+  void CloseTail(const RGB& absorbed, const RGB& escaped, const SampleSet& samples);
+
 private:
   RGB Emitted;
   bool Valid = false;

@@ -285,6 +285,7 @@ IndirectLevel::Location IndirectLevel::Locate(const Vec3& p) const
 SurfaceSamples IndirectLevel::Restrict(const SurfaceSamples& fine) const
 {
   SurfaceSamples coarse;
+  coarse.LinearPower = true;
   coarse.Points = this->Points;
   coarse.Triangles = this->Triangles;
   const std::size_t count = this->Points.size();

@@ -6,6 +6,7 @@
 #include "penumbraProgressiveShooter.h"
 
 #include "penumbraEnergyBookkeeping.h"
+#include "penumbraEscapeRays.h"
 #include "penumbraExactEvaluator.h"
 #include "penumbraExactShot.h"
 #include "penumbraFastShot.h"
@@ -18,6 +19,7 @@
 #include "penumbraRecordedTransport.h"
 #include "penumbraSampleSet.h"
 #include "penumbraShot.h"
+#include "penumbraSweepTail.h"
 #include "penumbraTimer.h"
 
 #include <algorithm>
@@ -31,6 +33,13 @@ namespace penumbra
 
 namespace
 {
+
+/// A shot's conservation scale (Receive) is applied only when it corrects
+/// the computed irradiance by at most this fraction: meshes too coarse for
+/// the light they receive err by more, and unevenly (up to 16% on 3 x 3
+/// grids), where one factor for all receivers would move the error of some
+/// onto the others; the shortfall then counts as escaped.
+constexpr double MaximumConservationCorrection = 0.02;
 
 /// Scratch memory of one chunk of a shot's parallel loop over points.
 struct ShotWorkspace
@@ -159,8 +168,8 @@ struct ProgressiveShooter::Internals
     const Shot& shot, const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance);
   long long PointIrradiance(
     const Shot& shot, const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance);
-  void Receive(
-    const std::vector<Receiver>& receivers, const std::vector<RGB>& irradiance, ShotRecord& record);
+  void Receive(const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance,
+    bool closed, ShotRecord& record);
   void RecordTransport();
 
   ExactEvaluator Exact;
@@ -173,6 +182,7 @@ struct ProgressiveShooter::Internals
   SampleSet Samples;
   ReceiverClusters Clusters;
   std::unique_ptr<RecordedTransport> Recorded; ///< null until the first sweep, and when invalidated
+  EscapeRays Escape;
   EnergyBookkeeping Energy;
 };
 
@@ -196,6 +206,7 @@ ShotRecord ProgressiveShooter::Internals::ShootSurfaces(
   bool anyTriangles = false;
   for (int j : members)
   {
+    this->Samples.MatchUnshotToPower(j);
     record.Power += this->Samples.UnshotPower[j];
     isMember[j] = 1;
     anyTriangles = anyTriangles || !this->Samples.Surfaces[j].Triangles.empty();
@@ -239,6 +250,27 @@ ShotRecord ProgressiveShooter::Internals::ShootSurfaces(
     {
       record.Rays += this->PointIrradiance(shot, receivers, irradiance);
     }
+    // Members whose light cannot leave the scene deliver all their power to
+    // the receivers and to the backs of surfaces, which absorb it: a closed
+    // scene conserves energy exactly (see Receive).
+    this->Escape.Ensure(this->Samples, members, this->Caster(), this->Loop);
+    bool closed = true;
+    for (int j : members)
+    {
+      closed = closed &&
+        (this->Samples.Surfaces[j].Triangles.empty() || this->Escape.IsClosed(j));
+    }
+    if (closed)
+    {
+      for (int j : members)
+      {
+        if (!this->Samples.Surfaces[j].Triangles.empty())
+        {
+          record.Backs +=
+            this->Samples.UnshotPower[j] * this->Escape.BackFraction(this->Samples, j);
+        }
+      }
+    }
     // The members' unshot radiance has been shot (before the updates: in a
     // group facing several ways members also receive).
     for (int j : members)
@@ -247,7 +279,7 @@ ShotRecord ProgressiveShooter::Internals::ShootSurfaces(
         this->Samples.Surfaces[j].Unshot.begin(), this->Samples.Surfaces[j].Unshot.end(), RGB());
       this->Samples.UnshotPower[j] = RGB();
     }
-    this->Receive(receivers, irradiance, record);
+    this->Receive(receivers, irradiance, closed, record);
   }
   this->Energy.CloseShot(record, this->Samples);
   record.Seconds = Seconds(start);
@@ -405,24 +437,70 @@ long long ProgressiveShooter::Internals::PointIrradiance(
   return sum;
 }
 
-/// The receivers' updates, in a fixed order: Total and Unshot += rho / pi E
-/// at every sample, and the shot's incident and absorbed power.
-void ProgressiveShooter::Internals::Receive(
-  const std::vector<Receiver>& receivers, const std::vector<RGB>& irradiance, ShotRecord& record)
+/**
+ * The receivers' updates, in a fixed order. With `closed` (no light of the
+ * shot can leave the scene) all the shot's power is received or absorbed
+ * by the backs of surfaces (record.Backs, estimated by rays). A fast
+ * shot's irradiance is then first scaled per channel so that the receivers
+ * get Power - Backs: it corrects what the fast method's expansions and
+ * visibility per node lose or add (not when a receiver is Uniform or on a
+ * coarse level, whose own quadrature errs more, nor by more than
+ * MaximumConservationCorrection). An exact shot's irradiance is exact at
+ * the samples and its power quadrature exact to third order: it is left as
+ * it is, so that a run's result does not depend on the order of its shots.
+ * Then Total and Unshot += rho / pi E at every sample, and the shot's
+ * incident and absorbed power.
+ */
+void ProgressiveShooter::Internals::Receive(const std::vector<Receiver>& receivers,
+  std::vector<RGB>& irradiance, bool closed, ShotRecord& record)
 {
+  std::vector<RGB> incident(receivers.size());
+  RGB computed;
+  std::vector<RGB> e;
+  const auto values = [&](const Receiver& rec) -> std::vector<RGB>& {
+    const std::size_t count = this->Samples.EvaluationPoints[rec.Id].size();
+    e.assign(irradiance.begin() + static_cast<std::ptrdiff_t>(rec.First),
+      irradiance.begin() + static_cast<std::ptrdiff_t>(rec.First + count));
+    if (e.size() != this->Samples.Surfaces[rec.Id].Points.size())
+    {
+      e.assign(this->Samples.Surfaces[rec.Id].Points.size(), e[0]); // a uniform receiver
+    }
+    return e;
+  };
+  for (std::size_t r = 0; r < receivers.size(); ++r)
+  {
+    incident[r] = this->Samples.Integral(receivers[r].Id, values(receivers[r]));
+    computed += incident[r];
+  }
+  // Receivers integrated coarsely (a coarse level's lattice, one value per
+  // Uniform surface) err by more than the fast method: scaling every
+  // receiver for their error would spread it.
+  bool resolved = true;
   for (const Receiver& rec : receivers)
   {
+    const SurfaceSamples& s = this->Samples.Surfaces[rec.Id];
+    resolved = resolved && !s.Uniform && !s.LinearPower;
+  }
+  RGB scale(1.0, 1.0, 1.0);
+  for (int c = 0; c < 3; ++c)
+  {
+    const double delivered = record.Power[c] - record.Backs[c];
+    if (closed && resolved && record.Method == ShotMethod::Fast && computed[c] > 0.0 &&
+      delivered > 0.0 &&
+      std::abs(delivered / computed[c] - 1.0) <= MaximumConservationCorrection)
+    {
+      scale[c] = delivered / computed[c];
+    }
+  }
+  record.Scale = scale;
+  for (std::size_t r = 0; r < receivers.size(); ++r)
+  {
+    const Receiver& rec = receivers[r];
     SurfaceSamples& s = this->Samples.Surfaces[rec.Id];
     const RGB rho = this->SceneCopy.Surfaces[rec.Id].Reflectance;
-    const std::size_t count = this->Samples.EvaluationPoints[rec.Id].size();
-    std::vector<RGB> e(irradiance.begin() + static_cast<std::ptrdiff_t>(rec.First),
-      irradiance.begin() + static_cast<std::ptrdiff_t>(rec.First + count));
-    if (e.size() != s.Points.size())
-    {
-      e.assign(s.Points.size(), e[0]); // a uniform receiver
-    }
-    EnergyBookkeeping::AddReceived(record, IntegrateLinear(s, this->Samples.Areas[rec.Id], e), rho);
-    const RGB factor = rho * (1.0 / Pi);
+    EnergyBookkeeping::AddReceived(record, incident[r] * scale, rho);
+    const RGB factor = rho * scale * (1.0 / Pi);
+    values(rec);
     for (std::size_t k = 0; k < e.size(); ++k)
     {
       const RGB dl = factor * e[k];
@@ -502,6 +580,7 @@ void ProgressiveShooter::SetSurfaceSamples(int surfaceId, SurfaceSamples samples
     surfaceId, std::move(samples), I.Settings.BoundaryOffset, I.Settings.RayOriginOffset);
   I.Clusters.Valid = false;
   I.Recorded.reset();
+  I.Escape.Invalidate();
   I.Energy.Invalidate();
 }
 
@@ -656,6 +735,7 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
   const double initial = this->GetTotalUnshotPower().Mean();
   const double target = I.Settings.UnshotFraction * reference;
   const auto weak = [this](double power) { return this->ChooseMethod(power) == ShotMethod::Fast; };
+  SweepTail tail;
   while (!ShootingDone(this->GetTotalUnshotPower().Mean(), target, summary.Shots,
     I.Settings.MaximumShots, summary.Reason))
   {
@@ -697,6 +777,15 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
       summary.FastSeconds += record.Seconds;
     }
     summary.History.push_back(record);
+    if (sweep)
+    {
+      tail.Observe(I.Samples, record);
+    }
+    else
+    {
+      tail.Reset();
+    }
+    const bool sumTail = tail.IsReady() && tail.RemainingError() <= target;
     if (callback &&
       !callback(record,
         ShootingProgress(
@@ -705,6 +794,18 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
       summary.Reason = StopReason::Aborted;
       break;
     }
+    if (sumTail)
+    {
+      summary.Reason = StopReason::Converged;
+      break;
+    }
+  }
+  // The rest of the sweeps in closed form, when they have settled to one
+  // ratio closely enough to leave less error than stopping here does.
+  if (summary.Reason == StopReason::Converged && tail.IsReady() &&
+    tail.RemainingError() < std::max(target, this->GetTotalUnshotPower().Mean()))
+  {
+    summary.TailPower = tail.Apply(I.Samples, I.Energy);
   }
   summary.Energy = I.Energy.Current();
   summary.UnshotFraction = reference > 0.0 ? this->GetTotalUnshotPower().Mean() / reference : 0.0;

@@ -158,6 +158,10 @@ struct ShootingSummary
   double Seconds = 0.0;          ///< wall-clock time of the run
   double ExactSeconds = 0.0;     ///< of which in exact shots
   double FastSeconds = 0.0;      ///< of which in fast shots
+  /// Reflected power (RGB watts) added by summing the tail of the sweeps
+  /// in closed form at the end (0 when it was not summed): see
+  /// "Convergence" in Documentation/design/transport.md.
+  RGB TailPower;
   ShootingEnergy Energy;         ///< bookkeeping after the run
   std::vector<ShotRecord> History; ///< one record per shot of this run
 };

@@ -4,8 +4,10 @@
 #include "penumbraBoundarySamples.h"
 #include "penumbraMath.h"
 #include "penumbraOccluderSet.h"
+#include "penumbraSampleQuadrature.h"
 #include "penumbraScene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -43,6 +45,7 @@ SampleSet::SampleSet(const OccluderSet& occluders, std::size_t n)
   this->Areas.resize(n);
   this->EvaluationPoints.resize(n);
   this->RayOrigins.resize(n);
+  this->Weights.resize(n);
   this->UnshotPower.resize(n);
 }
 
@@ -111,6 +114,10 @@ void SampleSet::Set(
     areas[t] = 0.5 * Length(Cross(samples.Points[tri[1]] - a, samples.Points[tri[2]] - a));
   }
   this->Surfaces[surfaceId] = std::move(samples);
+  const PreparedPolygon* poly = this->Surfaces[surfaceId].Triangles.empty() ? nullptr : &this->Polygon(surfaceId);
+  this->Weights[surfaceId] = poly
+    ? ComputeQuadratureWeights(this->Surfaces[surfaceId], areas, poly->AxisU, poly->AxisV)
+    : std::vector<double>(this->Surfaces[surfaceId].Points.size(), 0.0);
   this->UpdateEvaluationPoints(surfaceId, boundaryOffset, rayOriginOffset);
   this->UpdateUnshotPower(surfaceId);
 }
@@ -129,7 +136,51 @@ void SampleSet::UpdateEvaluationPoints(
 void SampleSet::UpdateUnshotPower(int surfaceId)
 {
   const SurfaceSamples& s = this->Surfaces[surfaceId];
-  this->UnshotPower[surfaceId] = IntegrateLinear(s, this->Areas[surfaceId], s.Unshot) * Pi;
+  this->UnshotPower[surfaceId] = this->Integral(surfaceId, s.Unshot) * Pi;
+}
+
+RGB SampleSet::Integral(int surfaceId, const std::vector<RGB>& values) const
+{
+  return Integrate(this->Weights[surfaceId], values);
+}
+
+void SampleSet::MatchUnshotToPower(int surfaceId)
+{
+  SurfaceSamples& s = this->Surfaces[surfaceId];
+  const std::vector<double>& areas = this->Areas[surfaceId];
+  double area = 0.0;
+  std::vector<char> used(s.Points.size(), 0);
+  for (std::size_t t = 0; t < s.Triangles.size(); ++t)
+  {
+    area += areas[t];
+    for (const int k : s.Triangles[t])
+    {
+      used[k] = 1;
+    }
+  }
+  if (!(area > 0.0))
+  {
+    return;
+  }
+  // A constant offset: linear in Unshot (so a run's result does not depend
+  // on the order of its shots) and about 1e-3 of the mean on meshes fine
+  // enough for the light.
+  const RGB linear = IntegrateLinear(s, areas, s.Unshot);
+  const RGB power = this->Integral(surfaceId, s.Unshot);
+  RGB offset;
+  for (int c = 0; c < 3; ++c)
+  {
+    offset[c] = (power[c] - linear[c]) / area;
+  }
+  for (std::size_t k = 0; k < s.Unshot.size(); ++k)
+  {
+    if (used[k])
+    {
+      s.Unshot[k] += offset;
+    }
+  }
+  // UnshotPower keeps the quadrature's value, which the offset interpolant
+  // now carries.
 }
 
 RGB SampleSet::TotalUnshotPower() const

@@ -39,6 +39,8 @@ struct SampleSet
   /// one point for a Uniform surface with triangles.
   std::vector<std::vector<Vec3>> EvaluationPoints;
   std::vector<std::vector<Vec3>> RayOrigins; ///< fast method: where visibility rays start
+  /// Per surface: the quadrature weight of each sample (penumbraSampleQuadrature.h).
+  std::vector<std::vector<double>> Weights;
   std::vector<RGB> UnshotPower; ///< per surface: pi * integral of Unshot
 
   int GetNumberOfSurfaces() const { return static_cast<int>(this->Surfaces.size()); }
@@ -57,6 +59,19 @@ struct SampleSet
 
   /// Recompute UnshotPower[surfaceId] from its unshot radiance.
   void UpdateUnshotPower(int surfaceId);
+
+  /// Integral over surface `surfaceId` of a function given at its samples
+  /// (Weights), per channel.
+  RGB Integral(int surfaceId, const std::vector<RGB>& values) const;
+
+  /**
+   * Offset the unshot radiance of surface `surfaceId` by a constant so that
+   * its linear interpolant, which the shots emit, carries the unshot power
+   * (the quadrature's integral, which sees the curvature the interpolant
+   * misses). UnshotPower is kept: call it once per shot, just before the
+   * unshot radiance is shot.
+   */
+  void MatchUnshotToPower(int surfaceId);
 
   /// Sum of UnshotPower, in surface order.
   RGB TotalUnshotPower() const;

@@ -30,8 +30,16 @@ struct ShotRecord
   ShotMethod Method = ShotMethod::Exact; ///< how E was computed
   RGB Power;          ///< shot power: pi * integral of the shooter's unshot radiance
   RGB Incident;       ///< power incident on the receivers' sample meshes
-  RGB Absorbed;       ///< part of Incident absorbed: sum of (1 - rho_i) * incident_i
-  RGB Escaped;        ///< Power - Incident: left the scene or lost to discretisation
+  RGB Absorbed;       ///< absorbed: sum of (1 - rho_i) * incident_i, plus Backs
+  /// Power that met the backs of surfaces (black, so absorbed), estimated by
+  /// rays; 0 when the shot's light can leave the scene (it then counts as
+  /// escaped).
+  RGB Backs;
+  RGB Escaped;        ///< Power - Incident - Backs: what left the scene
+  /// Factor applied to the computed irradiance so that the receivers got
+  /// Power - Backs, when none of the shooters' light can leave the scene
+  /// and the correction is small (1 otherwise).
+  RGB Scale = RGB(1.0, 1.0, 1.0);
   int GroupSize = 1;  ///< surfaces shot together (GroupWeakShots); Shooter is the strongest
   int Receivers = 0;  ///< receivers that exchange light with the shooter
   long long Samples = 0;      ///< samples evaluated

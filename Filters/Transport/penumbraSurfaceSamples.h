@@ -28,12 +28,21 @@ struct SurfaceSamples
   std::vector<std::array<int, 3>> Triangles;
   std::vector<RGB> Total;  ///< total radiance at each point
   std::vector<RGB> Unshot; ///< unshot radiance at each point
+  /// Mesh edges (pairs of point ids) on lines where the radiance may have
+  /// a kink or a jump (discontinuities of order 0 and 1): the quadrature
+  /// of the powers fits no slope across them. Optional; without them a fit
+  /// near such a line smears its kink. []
+  std::vector<std::array<int, 2>> Creases;
   /// Receive one irradiance for the whole surface, evaluated at one point
   /// (the centroid of the triangles, or of the largest if that lies
   /// outside) and added at every point: for surfaces smaller than the
   /// resolution wanted (the coarse level's small polygons), at a fraction
   /// of the cost. It still shoots its linear unshot radiance. [false]
   bool Uniform = false;
+  /// Integrate powers with the linear interpolant instead of the quadrature
+  /// exact for quadratics: for a coarse level, whose restriction and
+  /// prolongation conserve the linear interpolant's integral. [false]
+  bool LinearPower = false;
 };
 
 } // namespace penumbra

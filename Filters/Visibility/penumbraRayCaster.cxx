@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -293,6 +294,26 @@ void RayCaster::TraceFrom(const Vec3& origin, const Vec3* targets, const int* ta
   for (int k = 0; k < count; ++k)
   {
     occluded[k] = rays[k].tfar < 0.0f ? 1 : 0;
+  }
+}
+
+void RayCaster::FindNearest(const Vec3* origins, const Vec3* directions, std::size_t count,
+  int* surfaces, int ignore) const
+{
+  IgnoreContext context;
+  InitContext(context, this->Internal->SurfaceOfTriangle.data(), ignore, -1);
+  context.Context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  RTCRayHit hit;
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    SetupRay(hit.ray, origins[k], origins[k] + directions[k], 0.0);
+    hit.ray.tfar = std::numeric_limits<float>::infinity();
+    hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    hit.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(this->Internal->Handle, &context.Context, &hit);
+    surfaces[k] = hit.hit.geomID == RTC_INVALID_GEOMETRY_ID
+      ? -1
+      : this->Internal->SurfaceOfTriangle[hit.hit.primID];
   }
 }
 

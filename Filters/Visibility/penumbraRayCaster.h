@@ -84,6 +84,14 @@ public:
   void TraceFrom(const Vec3& origin, const Vec3* targets, const int* targetSurfaces, int count,
     unsigned char* occluded, int ignore) const;
 
+  /**
+   * The surface first met by each ray from origins[i] along directions[i]
+   * (any length; the ray is unbounded), or -1 where it meets none; hits on
+   * surface `ignore` (or -1) do not count. Thread-safe.
+   */
+  void FindNearest(const Vec3* origins, const Vec3* directions, std::size_t count,
+    int* surfaces, int ignore) const;
+
   /// Number of triangles in the Embree scene.
   int GetNumberOfTriangles() const;
 

@@ -17,7 +17,7 @@ second.
 """
 import numpy as np
 
-__all__ = ["box_room", "scene_from_polygons", "ROOM_CELLS", "ROOM_HEIGHT", "LIGHT_EMISSION"]
+__all__ = ["box_room", "closed_cube", "closed_cube_radiance", "scene_from_polygons", "ROOM_CELLS", "ROOM_HEIGHT", "LIGHT_EMISSION"]
 
 #: Number of room surfaces (floor, ceiling, 4 walls): cells 0-5 of a box room.
 ROOM_CELLS = 6
@@ -254,3 +254,40 @@ def box_room(polygons, seed=0, lights=None):
     part = np.concatenate([np.full(ROOM_CELLS, -1), np.full(nlights, -2),
                            np.repeat(np.arange(nboxes), 5)])
     return _polydata(points, quads, reflectance, emission, part)
+
+
+def closed_cube(reflectance, side=4.0, emitter_side=0.02, emission=1000.0):
+    """CIE 171:2006 test case 5.8: a closed cube of side `side` (metres) whose six
+    inner faces and a small emitter all have the grey `reflectance`. The emitter is a
+    cube of side `emitter_side` at the centre, each face emitting `emission`
+    (W sr^-1 m^-2) outward, so that it lights the six faces alike.
+
+    Every photon stays inside, so flux balance gives the mean reflected radiance of
+    every face exactly when the field is uniform: rho * Phi / (pi * S_T * (1 - rho)),
+    with Phi = pi * emission * (emitter area) and S_T the area of all surfaces
+    (`closed_cube_radiance`). The emitter is small enough (area 2.5e-5 of S_T by
+    default) that the non-uniformity it causes is far below 1e-4 of that value.
+    Cells 0-5 are the cube's faces (floor, ceiling, then the walls), 6-11 the
+    emitter's."""
+    h, e = side / 2.0, emitter_side / 2.0
+    rho = (reflectance,) * 3
+
+    def box(half, inward, emitted):
+        c = np.array([[-1, -1, -1], [1, -1, -1], [1, -1, 1], [-1, -1, 1],
+                      [-1, 1, -1], [1, 1, -1], [1, 1, 1], [-1, 1, 1]], dtype=float) * half
+        c[:, 1] += h  # the floor at y = 0
+        # Faces counter-clockwise seen from outside: bottom, top, -z, +x, +z, -x.
+        faces = [[0, 1, 2, 3], [4, 7, 6, 5], [0, 4, 5, 1], [1, 5, 6, 2], [2, 6, 7, 3],
+                 [3, 7, 4, 0]]
+        return [{"vertices": [tuple(c[i]) for i in (f[::-1] if inward else f)],
+                 "reflectance": rho, "emission": (emitted,) * 3} for f in faces]
+
+    return scene_from_polygons(box(h, True, 0.0) + box(e, False, emission))
+
+
+def closed_cube_radiance(reflectance, side=4.0, emitter_side=0.02, emission=1000.0):
+    """The flux-balance value of `closed_cube`: the mean reflected radiance of each
+    face, rho * Phi / (pi * S_T * (1 - rho))."""
+    emitted = np.pi * emission * 6.0 * emitter_side ** 2
+    total_area = 6.0 * (side ** 2 + emitter_side ** 2)
+    return reflectance * emitted / (np.pi * total_area * (1.0 - reflectance))
