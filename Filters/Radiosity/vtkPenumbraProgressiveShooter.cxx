@@ -189,6 +189,7 @@ void AddShootingFields(vtkFieldData* fieldData, const penumbra::ShootingSummary&
   penumbra::AddField(fieldData, "EmittedPower", summary.Energy.Emitted);
   penumbra::AddField(fieldData, "AbsorbedPower", summary.Energy.Absorbed());
   penumbra::AddField(fieldData, "EscapedPower", summary.Energy.Escaped());
+  penumbra::AddField(fieldData, "ResidualPower", summary.Energy.Residual());
   penumbra::AddField(fieldData, "UnshotPower", summary.Energy.Unshot);
   penumbra::AddField(fieldData, "ShootingSeconds", summary.Seconds);
   // The points the shots were evaluated at, and the coarse level's spacing (0: none).

@@ -89,6 +89,7 @@ void AddSummaryFields(vtkFieldData* fieldData, const penumbra::StandardRadiosity
   penumbra::AddField(fieldData, "EmittedPower", summary.Energy.Emitted);
   penumbra::AddField(fieldData, "AbsorbedPower", summary.Energy.Absorbed());
   penumbra::AddField(fieldData, "EscapedPower", summary.Energy.Escaped());
+  penumbra::AddField(fieldData, "ResidualPower", summary.Energy.Residual());
   penumbra::AddField(fieldData, "UnshotPower", summary.Energy.Unshot);
 }
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraEnergyBookkeeping.h"
 
+#include "penumbraEscapeRays.h"
 #include "penumbraMath.h"
 #include "penumbraSampleSet.h"
 #include "penumbraScene.h"
@@ -20,11 +21,12 @@ RGB Difference(const RGB& a, const RGB& b)
 
 } // namespace
 
-void EnergyBookkeeping::Ensure(const Scene& scene, const SampleSet& samples)
+void EnergyBookkeeping::Ensure(
+  const Scene& scene, const SampleSet& samples, const EscapeRays& escape)
 {
   if (!this->Valid)
   {
-    this->Energy = this->InitialEnergy(scene, samples);
+    this->Energy = this->InitialEnergy(scene, samples, &escape);
     this->Reference =
       this->Emitted.Mean() > 0.0 ? this->Emitted.Mean() : this->Energy.InitialUnshot.Mean();
     this->Valid = true;
@@ -33,7 +35,7 @@ void EnergyBookkeeping::Ensure(const Scene& scene, const SampleSet& samples)
 
 ShootingEnergy EnergyBookkeeping::Get(const Scene& scene, const SampleSet& samples) const
 {
-  return this->Valid ? this->Energy : this->InitialEnergy(scene, samples);
+  return this->Valid ? this->Energy : this->InitialEnergy(scene, samples, nullptr);
 }
 
 double EnergyBookkeeping::ReferencePower(const SampleSet& samples) const
@@ -46,7 +48,8 @@ double EnergyBookkeeping::ReferencePower(const SampleSet& samples) const
   return emitted > 0.0 ? emitted : samples.TotalUnshotPower().Mean();
 }
 
-ShootingEnergy EnergyBookkeeping::InitialEnergy(const Scene& scene, const SampleSet& samples) const
+ShootingEnergy EnergyBookkeeping::InitialEnergy(
+  const Scene& scene, const SampleSet& samples, const EscapeRays* escape) const
 {
   ShootingEnergy e;
   e.Emitted = this->Emitted;
@@ -75,7 +78,34 @@ ShootingEnergy EnergyBookkeeping::InitialEnergy(const Scene& scene, const Sample
       }
     }
   }
-  e.PriorEscaped = Difference(Difference(e.Emitted, e.InitialUnshot), e.PriorAbsorbed);
+  // Where each emitter's light went besides the receivers, by its rays.
+  RGB known;
+  for (std::size_t i = 0; i < scene.Surfaces.size(); ++i)
+  {
+    const Surface& surface = scene.Surfaces[i];
+    const RGB power = surface.Emission * (Pi * ComputePolygonGeometry(surface.Vertices).Area);
+    if (power.IsZero())
+    {
+      continue;
+    }
+    if (escape && !samples.Surfaces[i].Triangles.empty())
+    {
+      e.PriorEscaped += power * escape->UniformEscapedFraction(static_cast<int>(i));
+      e.PriorAbsorbed += power * escape->UniformBackFraction(static_cast<int>(i));
+      known += power;
+    }
+  }
+  // Emitters whose rays are unknown: what is not accounted for escaped.
+  const RGB rest = Difference(Difference(Difference(e.Emitted, e.InitialUnshot), e.PriorAbsorbed),
+    e.PriorEscaped);
+  if (known.IsZero() || !escape)
+  {
+    e.PriorEscaped += rest;
+  }
+  else
+  {
+    e.PriorResidual = rest;
+  }
   e.Unshot = e.InitialUnshot;
   return e;
 }
@@ -89,9 +119,11 @@ void EnergyBookkeeping::AddReceived(ShotRecord& record, const RGB& incident, con
 void EnergyBookkeeping::CloseShot(ShotRecord& record, const SampleSet& samples)
 {
   record.Absorbed += record.Backs;
-  record.Escaped = Difference(Difference(record.Power, record.Incident), record.Backs);
+  record.Residual = Difference(
+    Difference(Difference(record.Power, record.Incident), record.Backs), record.Escaped);
   this->Energy.ShotAbsorbed += record.Absorbed;
   this->Energy.ShotEscaped += record.Escaped;
+  this->Energy.ShotResidual += record.Residual;
   this->Energy.Unshot = samples.TotalUnshotPower();
   record.UnshotAfter = this->Energy.Unshot.Mean();
 }

@@ -16,6 +16,7 @@
 namespace penumbra
 {
 
+class EscapeRays;
 struct SampleSet;
 struct Scene;
 
@@ -33,8 +34,9 @@ public:
   void Invalidate() { this->Valid = false; }
   bool IsValid() const { return this->Valid; }
 
-  /// Start the bookkeeping (and fix the reference power) if not started.
-  void Ensure(const Scene& scene, const SampleSet& samples);
+  /// Start the bookkeeping (and fix the reference power) if not started;
+  /// `escape` has the rays of every emitter with samples.
+  void Ensure(const Scene& scene, const SampleSet& samples, const EscapeRays& escape);
 
   /// The bookkeeping so far (valid), or what it would start from.
   ShootingEnergy Get(const Scene& scene, const SampleSet& samples) const;
@@ -49,16 +51,21 @@ public:
   /// The reference power fixed by the last Ensure that started the bookkeeping.
   double FixedReferencePower() const { return this->Reference; }
 
-  /// The state before the first shot: the direct pass's absorbed part
-  /// inferred from the reflected radiance, the rest of what it consumed
-  /// counted as escaped.
-  ShootingEnergy InitialEnergy(const Scene& scene, const SampleSet& samples) const;
+  /**
+   * The state before the first shot: the direct pass's absorbed part
+   * inferred from the reflected radiance (plus what met surfaces' backs),
+   * its escaped part from the emitters' rays, the rest of what it consumed
+   * as residual. Without `escape` (or for an emitter without samples) what
+   * is not inferred counts as escaped.
+   */
+  ShootingEnergy InitialEnergy(
+    const Scene& scene, const SampleSet& samples, const EscapeRays* escape) const;
 
   /// A receiver of reflectance `rho` got `incident` watts from the shot.
   static void AddReceived(ShotRecord& record, const RGB& incident, const RGB& rho);
 
-  /// Close the shot's record: its escaped power, the bookkeeping's shot
-  /// sums, and the unshot power left (after the receivers' updates).
+  /// Close the shot's record: its residual, the bookkeeping's shot sums,
+  /// and the unshot power left (after the receivers' updates).
   void CloseShot(ShotRecord& record, const SampleSet& samples);
 
   /// The sum of the sweeps' tail (penumbraSweepTail.h) spent the unshot

@@ -61,7 +61,7 @@ void EscapeRays::Ensure(const SampleSet& samples, const std::vector<int>& surfac
   RunParallel(loop, todo.size(), [&](std::size_t begin, std::size_t end) {
     std::vector<Vec3> origins(rays), directions(rays);
     std::vector<int> hits(rays);
-    std::vector<BackHit> where(rays);
+    std::vector<Origin> where(rays);
     for (std::size_t item = begin; item < end; ++item)
     {
       const int j = todo[item];
@@ -78,7 +78,7 @@ void EscapeRays::Ensure(const SampleSet& samples, const std::vector<int>& surfac
       SurfaceRays& out = this->Surfaces[j];
       out.Traced = true;
       out.Rays = rays;
-      out.Escaping = 0;
+      out.Escaping.clear();
       out.Backs.clear();
       if (!(total > 0.0))
       {
@@ -122,7 +122,7 @@ void EscapeRays::Ensure(const SampleSet& samples, const std::vector<int>& surfac
         const int hit = hits[r];
         if (hit < 0 || samples.EvaluationPoints[hit].empty())
         {
-          ++out.Escaping;
+          out.Escaping.push_back(where[r]);
         }
         else if (Dot(samples.Polygon(hit).Normal, directions[r]) >= 0.0)
         {
@@ -135,25 +135,48 @@ void EscapeRays::Ensure(const SampleSet& samples, const std::vector<int>& surfac
 
 bool EscapeRays::IsClosed(int surface) const
 {
-  return this->GetEscapingRays(surface) == 0;
+  return this->Surfaces.at(surface).Escaping.empty();
 }
 
 int EscapeRays::GetEscapingRays(int surface) const
 {
-  return this->Surfaces.at(surface).Escaping;
+  return static_cast<int>(this->Surfaces.at(surface).Escaping.size());
+}
+
+double EscapeRays::UniformEscapedFraction(int surface) const
+{
+  const SurfaceRays& rays = this->Surfaces.at(surface);
+  return rays.Rays > 0 ? static_cast<double>(rays.Escaping.size()) / rays.Rays : 0.0;
+}
+
+double EscapeRays::UniformBackFraction(int surface) const
+{
+  const SurfaceRays& rays = this->Surfaces.at(surface);
+  return rays.Rays > 0 ? static_cast<double>(rays.Backs.size()) / rays.Rays : 0.0;
 }
 
 RGB EscapeRays::BackFraction(const SampleSet& samples, int surface) const
 {
+  return this->Fraction(samples, surface, this->Surfaces.at(surface).Backs);
+}
+
+RGB EscapeRays::EscapedFraction(const SampleSet& samples, int surface) const
+{
+  return this->Fraction(samples, surface, this->Surfaces.at(surface).Escaping);
+}
+
+RGB EscapeRays::Fraction(
+  const SampleSet& samples, int surface, const std::vector<Origin>& origins) const
+{
   const SurfaceRays& rays = this->Surfaces.at(surface);
   RGB fraction;
-  if (rays.Backs.empty() || rays.Rays == 0)
+  if (origins.empty() || rays.Rays == 0)
   {
     return fraction;
   }
   const SurfaceSamples& s = samples.Surfaces[surface];
   RGB sum;
-  for (const BackHit& h : rays.Backs)
+  for (const Origin& h : origins)
   {
     const std::array<int, 3>& tri = s.Triangles[h.Triangle];
     sum += s.Unshot[tri[0]] * (1.0 - h.A - h.B) + s.Unshot[tri[1]] * h.A + s.Unshot[tri[2]] * h.B;

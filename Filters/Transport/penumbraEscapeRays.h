@@ -52,12 +52,21 @@ public:
    */
   RGB BackFraction(const SampleSet& samples, int surface) const;
 
+  /// The same for the rays that escape (0 for a closed surface).
+  RGB EscapedFraction(const SampleSet& samples, int surface) const;
+
+  /// Of a uniformly radiating surface `surface` (an emitter's emission):
+  /// the fraction of its rays that escape, and that meet backs.
+  double UniformEscapedFraction(int surface) const;
+  double UniformBackFraction(int surface) const;
+
   /// Rays traced per surface for a scene of `surfaces` surfaces: 16384,
   /// fewer (at least 256) when that would exceed 2^24 rays in all.
   static int RaysPerSurface(int surfaces);
 
 private:
-  struct BackHit
+  /// Where a kept ray starts.
+  struct Origin
   {
     int Triangle;
     float A, B; ///< barycentric coordinates of corners 1 and 2
@@ -66,9 +75,11 @@ private:
   {
     bool Traced = false;
     int Rays = 0;
-    int Escaping = 0;
-    std::vector<BackHit> Backs;
+    std::vector<Origin> Escaping;
+    std::vector<Origin> Backs;
   };
+  /// The unshot power fraction carried by the rays from `origins`.
+  RGB Fraction(const SampleSet& samples, int surface, const std::vector<Origin>& origins) const;
   std::vector<SurfaceRays> Surfaces;
 };
 

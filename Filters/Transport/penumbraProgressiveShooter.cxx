@@ -171,6 +171,7 @@ struct ProgressiveShooter::Internals
   void Receive(const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance,
     bool closed, ShotRecord& record);
   void RecordTransport();
+  void EnsureEnergy();
 
   ExactEvaluator Exact;
   Scene SceneCopy;
@@ -257,18 +258,13 @@ ShotRecord ProgressiveShooter::Internals::ShootSurfaces(
     bool closed = true;
     for (int j : members)
     {
-      closed = closed &&
-        (this->Samples.Surfaces[j].Triangles.empty() || this->Escape.IsClosed(j));
-    }
-    if (closed)
-    {
-      for (int j : members)
+      if (!this->Samples.Surfaces[j].Triangles.empty())
       {
-        if (!this->Samples.Surfaces[j].Triangles.empty())
-        {
-          record.Backs +=
-            this->Samples.UnshotPower[j] * this->Escape.BackFraction(this->Samples, j);
-        }
+        closed = closed && this->Escape.IsClosed(j);
+        record.Backs +=
+          this->Samples.UnshotPower[j] * this->Escape.BackFraction(this->Samples, j);
+        record.Escaped +=
+          this->Samples.UnshotPower[j] * this->Escape.EscapedFraction(this->Samples, j);
       }
     }
     // The members' unshot radiance has been shot (before the updates: in a
@@ -355,6 +351,28 @@ long long ProgressiveShooter::Internals::SweepIrradiance(
   this->Recorded->Replay(
     this->Samples, this->Clusters, this->FirstItems(receivers), irradiance.data(), this->Loop);
   return rays;
+}
+
+/// Start the energy bookkeeping if not started, with the emitters' rays.
+void ProgressiveShooter::Internals::EnsureEnergy()
+{
+  if (this->Energy.IsValid())
+  {
+    return;
+  }
+  std::vector<int> emitters;
+  for (int i = 0; i < this->Samples.GetNumberOfSurfaces(); ++i)
+  {
+    if (!this->SceneCopy.Surfaces[i].Emission.IsZero())
+    {
+      emitters.push_back(i);
+    }
+  }
+  if (!emitters.empty())
+  {
+    this->Escape.Ensure(this->Samples, emitters, this->Caster(), this->Loop);
+  }
+  this->Energy.Ensure(this->SceneCopy, this->Samples, this->Escape);
 }
 
 /// The transport of every surface to every receiver cluster, recorded once
@@ -690,7 +708,7 @@ ShotRecord ProgressiveShooter::Shoot(int shooterId, ShotMethod method)
     throw InputError("progressive shooter: shooter id " + std::to_string(shooterId) +
       " out of range [0, " + std::to_string(this->GetNumberOfSurfaces()) + ")");
   }
-  I.Energy.Ensure(I.SceneCopy, I.Samples);
+  I.EnsureEnergy();
   return I.ShootSurfaces({ shooterId }, method, this->GetReferencePower());
 }
 
@@ -727,7 +745,7 @@ double ShootingProgress(
 ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
 {
   Internals& I = *this->Internal;
-  I.Energy.Ensure(I.SceneCopy, I.Samples);
+  I.EnsureEnergy();
   const auto start = std::chrono::steady_clock::now();
   ShootingSummary summary;
   const double reference = I.Energy.FixedReferencePower();

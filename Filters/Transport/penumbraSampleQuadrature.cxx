@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 
 namespace penumbra
 {
@@ -20,6 +21,14 @@ namespace
 // Fits need this many neighbours before ring 2 is added (a quadratic has 5
 // unknowns besides the value; a margin keeps the fit from interpolating).
 constexpr std::size_t RingOnePoints = 8;
+// Absolute sum of a triangle's weights, relative to its area, beyond which
+// the triangle falls back to the linear interpolant's weights (whose sum is
+// 1): the slope fits' weights grow as the stencil's spacing over the
+// triangle's size.
+constexpr double StableRowSum = 3.0;
+// Inverse-distance weights of the fits are capped at this over the
+// stencil's radius, so that one very close point cannot decide a slope.
+constexpr double ClosestWeightDistance = 0.1;
 // A pivot below this fraction of its column's original diagonal means the
 // stencil cannot determine that unknown.
 constexpr double PivotThreshold = 1e-9;
@@ -245,6 +254,7 @@ std::vector<double> ComputeQuadratureWeights(
   std::vector<char> done(3 * samples.Triangles.size(), 0);
   std::vector<std::array<double, 6>> rows;
   std::vector<int> sector;
+  std::vector<std::pair<int, double>> row;
   for (std::size_t i = 0; i < n; ++i)
   {
     for (const int seed : mesh.Incident[i])
@@ -289,7 +299,8 @@ std::vector<double> ComputeQuadratureWeights(
         const double d = std::hypot(du, dv);
         if (d > 0.0)
         {
-          rows.push_back({ du, dv, 0.5 * du * du, du * dv, 0.5 * dv * dv, 1.0 / d });
+          rows.push_back({ du, dv, 0.5 * du * du, du * dv, 0.5 * dv * dv,
+            1.0 / std::max(d, ClosestWeightDistance) });
           used.push_back(q);
         }
       }
@@ -329,10 +340,16 @@ std::vector<double> ComputeQuadratureWeights(
     double valueWeights[3];
     double gradientWeights[3][2];
     CloughTocherIntegralWeights(corners, valueWeights, gradientWeights);
+    // The triangle's weights (corner values, then each stencil point's
+    // share through the slopes), gathered first: a row whose absolute sum
+    // exceeds StableRowSum times the area comes from a slope fit on points
+    // far closer together than the triangle is wide, and would amplify
+    // their noise; such a triangle takes the linear interpolant's weights.
+    row.clear();
     for (int c = 0; c < 3; ++c)
     {
       const int i = tri[c];
-      weights[i] += valueWeights[c];
+      row.emplace_back(i, valueWeights[c]);
       const int id = cornerSector[3 * t + c];
       if (id < 0)
       {
@@ -344,9 +361,26 @@ std::vector<double> ComputeQuadratureWeights(
       for (std::size_t r = 0; r < s.size(); ++r)
       {
         const double w = gradientWeights[c][0] * g[2 * r] + gradientWeights[c][1] * g[2 * r + 1];
-        weights[s[r]] += w;
-        weights[i] -= w;
+        row.emplace_back(s[r], w);
+        row.emplace_back(i, -w);
       }
+    }
+    double absolute = 0.0;
+    for (const auto& entry : row)
+    {
+      absolute += std::abs(entry.second);
+    }
+    if (absolute > StableRowSum * areas[t])
+    {
+      for (const int i : tri)
+      {
+        weights[i] += areas[t] / 3.0;
+      }
+      continue;
+    }
+    for (const auto& entry : row)
+    {
+      weights[entry.first] += entry.second;
     }
   }
   return weights;

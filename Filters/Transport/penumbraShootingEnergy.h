@@ -2,7 +2,7 @@
 /**
  * @file penumbraShootingEnergy.h
  * @brief What a shot did and the energy bookkeeping of a run of shots:
- * Emitted = Absorbed + Unshot + Escaped per channel, by construction
+ * Emitted = Absorbed + Unshot + Escaped + Residual per channel, by construction
  * (Documentation/design/transport.md, "Energy"). Shared by the progressive
  * shooter and the standard radiosity baseline; penumbraEnergyBookkeeping.h
  * computes them.
@@ -35,7 +35,12 @@ struct ShotRecord
   /// rays; 0 when the shot's light can leave the scene (it then counts as
   /// escaped).
   RGB Backs;
-  RGB Escaped;        ///< Power - Incident - Backs: what left the scene
+  /// What left the scene (estimated by rays; 0 when none can leave).
+  RGB Escaped;
+  /// Power - Incident - Backs - Escaped: what the receivers' quadrature of
+  /// the computed irradiance missed (positive) or found in excess
+  /// (negative), the discretisation's imbalance.
+  RGB Residual;
   /// Factor applied to the computed irradiance so that the receivers got
   /// Power - Backs, when none of the shooters' light can leave the scene
   /// and the correction is small (1 otherwise).
@@ -50,23 +55,31 @@ struct ShotRecord
 
 /**
  * Energy bookkeeping of a run, per channel, in watts. The identity
- * Emitted = Absorbed() + Unshot + Escaped() holds up to rounding by
- * construction (see Documentation/design/transport.md, "Energy").
+ * Emitted = Absorbed() + Unshot + Escaped() + Residual() holds up to
+ * rounding by construction (see Documentation/design/transport.md,
+ * "Energy"). Escaped is light that left the scene; Residual is the
+ * discretisation's imbalance, where the samples' quadrature finds less (or
+ * more) light than was sent.
  */
 struct ShootingEnergy
 {
   RGB Emitted;        ///< pi * sum of L^e * area over ALL surfaces (Scene::EmittedPower)
   RGB InitialUnshot;  ///< unshot power of the samples before the first shot
   RGB PriorAbsorbed;  ///< absorbed by the direct pass, inferred from the reflected radiance
-  RGB PriorEscaped;   ///< Emitted - InitialUnshot - PriorAbsorbed
+  RGB PriorEscaped;   ///< left the scene in the direct pass
+  /// Emitted - InitialUnshot - PriorAbsorbed - PriorEscaped
+  RGB PriorResidual;
   RGB ShotAbsorbed;   ///< absorbed during the shots
-  RGB ShotEscaped;    ///< escaped or lost during the shots
+  RGB ShotEscaped;    ///< escaped during the shots
+  RGB ShotResidual;   ///< the shots' Residual (ShotRecord)
   RGB Unshot;         ///< unshot power left
 
   /// PriorAbsorbed + ShotAbsorbed.
   RGB Absorbed() const { return this->PriorAbsorbed + this->ShotAbsorbed; }
   /// PriorEscaped + ShotEscaped.
   RGB Escaped() const { return this->PriorEscaped + this->ShotEscaped; }
+  /// PriorResidual + ShotResidual.
+  RGB Residual() const { return this->PriorResidual + this->ShotResidual; }
 };
 
 } // namespace penumbra

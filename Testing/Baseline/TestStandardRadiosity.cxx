@@ -191,7 +191,7 @@ PENUMBRA_TEST(TestEnergyBalance)
   const penumbra::ShootingEnergy& e = summary.Energy;
   for (int c = 0; c < 3; ++c)
   {
-    const double balance = e.Absorbed()[c] + e.Escaped()[c] + e.Unshot[c];
+    const double balance = e.Absorbed()[c] + e.Escaped()[c] + e.Unshot[c] + e.Residual()[c];
     PENUMBRA_EXPECT_REL(balance, e.Emitted[c], 1e-12);
   }
   // The Cornell box is open at the front: light escapes, but not most of it.

@@ -59,7 +59,8 @@ def test_energy_balance_and_report():
                        lambda caller, _event: progress.append(caller.GetProgress()))
     out = penumbra.run_filter(solver)
     emitted = field(out, "EmittedPower")
-    balance = field(out, "AbsorbedPower") + field(out, "EscapedPower") + field(out, "UnshotPower")
+    balance = (field(out, "AbsorbedPower") + field(out, "EscapedPower") + field(out, "UnshotPower")
+               + field(out, "ResidualPower"))
     assert np.allclose(balance, emitted, rtol=1e-12)
     assert field(out, "UnshotFraction")[0] <= 1e-2
     assert field(out, "Shots")[0] > 0 and field(out, "SolveSeconds")[0] > 0

@@ -229,7 +229,7 @@ double EnergyIdentityError(const penumbra::ShootingEnergy& e)
   double worst = 0.0;
   for (int c = 0; c < 3; ++c)
   {
-    const double sum = e.Absorbed()[c] + e.Unshot[c] + e.Escaped()[c];
+    const double sum = e.Absorbed()[c] + e.Unshot[c] + e.Escaped()[c] + e.Residual()[c];
     worst = std::max(worst, std::abs(sum - e.Emitted[c]) / e.Emitted[c]);
   }
   return worst;
