@@ -42,32 +42,15 @@ REFERENCE = {"ExactPowerFraction": 0.0, "UnshotFraction": 1e-4, "SamplingToleran
              "SubdivisionLevel": 4}
 
 
-def quad(corners, reflectance, emission=(0.0, 0.0, 0.0)):
-    return {"vertices": corners, "reflectance": reflectance, "emission": emission}
-
-
-def baffle_scene():
-    """A floor lit only through a half-lit panel (metres): the light, above a black
-    baffle, shines on the panel's upper part; the baffle touches the panel, hides the
-    light from the floor and casts the panel's shadow onto the floor."""
-    black, grey, white = (0.0, 0.0, 0.0), (0.5, 0.5, 0.5), (0.9, 0.9, 0.9)
-    polygons = [
-        quad([(0, 0, 0), (0, 0, 4), (4, 0, 4), (4, 0, 0)], grey),                 # floor, +y
-        quad([(0, 0.5, 1), (0, 2.5, 1), (0, 2.5, 3), (0, 0.5, 3)], white),         # panel, +x
-        quad([(1.0, 2.0, 1.8), (1.0, 2.0, 2.2), (1.0, 2.4, 2.2), (1.0, 2.4, 1.8)],
-             black, (50.0, 50.0, 50.0)),                                           # light, -x
-        quad([(0, 1.5, 0.5), (0, 1.5, 3.5), (1.0, 1.5, 3.5), (1.0, 1.5, 0.5)], black),  # baffle
-    ]
-    return scene_from_polygons(polygons)
-
-
 def load(name):
     import penumbra
     from penumbra.generators import box_room
 
     if name == "baffle":
+        from penumbra.generators import half_lit_panel
+
         validator = penumbra.vtkPenumbraSceneValidator()
-        validator.SetInputData(baffle_scene())
+        validator.SetInputData(half_lit_panel())
         return penumbra.run_filter(validator)
     if name == "room100":
         return box_room(100, seed=1)

@@ -1,26 +1,34 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkPenumbraSolver.h"
+#include "vtkPenumbraSceneConversion.h"
 
 #include "penumbraDiscontinuityMesher.h"
 #include "penumbraEvaluationSettings.h"
 #include "penumbraReconstruction.h"
+#include "penumbraSecondaryShooters.h"
 #include "penumbraTransportSettings.h"
 
 #include "vtkCallbackCommand.h"
+#include "vtkCellData.h"
 #include "vtkCommand.h"
+#include "vtkDataArray.h"
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMath.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPenumbraDiscontinuityMesher.h"
 #include "vtkPenumbraProgressiveShooter.h"
 #include "vtkPenumbraRadianceEvaluator.h"
 #include "vtkPenumbraRadianceReconstructor.h"
+#include "vtkPointData.h"
 #include "vtkPolyData.h"
 
+#include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkPenumbraSolver);
@@ -40,6 +48,7 @@ vtkPenumbraSolver::vtkPenumbraSolver()
   this->ReuseTransport = transport.Shooting.ReuseTransport;
   this->MaximumIndirectSamples = static_cast<vtkIdType>(transport.MaximumIndirectSamples);
   this->SubdivisionLevel = display.SubdivisionLevel;
+  this->SecondaryShooterFraction = transport.SecondaryShooterFraction;
 }
 
 namespace
@@ -62,6 +71,48 @@ struct StageObserver
   double Weight = 0.0;
   std::string Error;
 };
+
+/// Maximum number of secondary shooters (SecondaryShooterFraction).
+constexpr int MaximumSecondaryShooters = 4;
+
+/// Per scene cell: pi * integral of (Radiance - Emission) over `direct`'s
+/// triangles of that surface, mean of RGB (linear interpolant).
+std::vector<double> ReflectedPower(vtkPolyData* direct, vtkPolyData* scene)
+{
+  std::vector<double> reflected(static_cast<std::size_t>(scene->GetNumberOfCells()), 0.0);
+  vtkDataArray* radiance = direct->GetPointData()->GetArray("Radiance");
+  vtkDataArray* ids = direct->GetCellData()->GetArray("SurfaceId");
+  vtkDataArray* emission = scene->GetCellData()->GetArray("Emission");
+  if (!radiance || !ids || !emission)
+  {
+    return reflected;
+  }
+  const auto surfaces = static_cast<vtkIdType>(reflected.size());
+  penumbra::ForEachCell(direct,
+    [&](vtkIdType cellId, int kind, vtkIdType count, const vtkIdType* points) {
+      const auto surface = static_cast<vtkIdType>(ids->GetComponent(cellId, 0));
+      if (kind != 2 || count != 3 || surface < 0 || surface >= surfaces)
+      {
+        return true;
+      }
+      double p[3][3], e[3], mean = 0.0;
+      emission->GetTuple(surface, e);
+      for (int k = 0; k < 3; ++k)
+      {
+        direct->GetPoint(points[k], p[k]);
+        double value[3];
+        radiance->GetTuple(points[k], value);
+        mean += ((value[0] - e[0]) + (value[1] - e[1]) + (value[2] - e[2])) / 9.0;
+      }
+      double u[3], v[3], w[3];
+      vtkMath::Subtract(p[1], p[0], u);
+      vtkMath::Subtract(p[2], p[0], v);
+      vtkMath::Cross(u, v, w);
+      reflected[static_cast<std::size_t>(surface)] += vtkMath::Pi() * 0.5 * vtkMath::Norm(w) * mean;
+      return true;
+    });
+  return reflected;
+}
 
 void OnStageProgress(vtkObject* caller, unsigned long, void* clientData, void*)
 {
@@ -164,6 +215,43 @@ int vtkPenumbraSolver::Execute(
       evaluator->SetPreparedScene(mesher->GetPreparedScene());
       shooter->SetPreparedScene(mesher->GetPreparedScene());
     }
+    if (k == 1 && this->Indirect)
+    {
+      // Secondary shooters: mesh and evaluate again, the receivers now
+      // following the shadows those surfaces cast too.
+      const std::vector<int> secondary = penumbra::SelectSecondaryShooters(
+        *mesher->GetPreparedScene(), ReflectedPower(evaluator->GetOutput(), scene),
+        this->SecondaryShooterFraction, MaximumSecondaryShooters);
+      if (!secondary.empty())
+      {
+        vtkDataArray* emission = scene->GetCellData()->GetArray("Emission");
+        for (vtkIdType c = 0; c < scene->GetNumberOfCells(); ++c)
+        {
+          double e[3];
+          emission->GetTuple(c, e);
+          if (e[0] != 0.0 || e[1] != 0.0 || e[2] != 0.0)
+          {
+            mesher->AddShooterId(c);
+          }
+        }
+        for (const int id : secondary)
+        {
+          mesher->AddShooterId(id);
+        }
+        this->SetProgressText("secondary shooters");
+        if (!mesher->GetExecutive()->Update() || !evaluator->GetExecutive()->Update() ||
+          !observers[0].Error.empty() || !observers[1].Error.empty())
+        {
+          vtkErrorMacro(<< "secondary shooters: "
+                        << (observers[0].Error.empty() ? observers[1].Error : observers[0].Error));
+          return 0;
+        }
+        if (this->GetAbortExecute())
+        {
+          return 1;
+        }
+      }
+    }
   }
   output->ShallowCopy(reconstructor->GetOutput());
   if (this->Indirect)
@@ -187,4 +275,5 @@ void vtkPenumbraSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumSamples: " << this->MaximumSamples << "\n";
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
   os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
+  os << indent << "SecondaryShooterFraction: " << this->SecondaryShooterFraction << "\n";
 }

@@ -114,6 +114,19 @@ public:
 
   ///@{
   /**
+   * Secondary shooters: a surface (not an emitter) whose direct light
+   * reflects at least this fraction of the emitted power also shoots for the
+   * discontinuity mesher (at most the 4 strongest), so that the sample
+   * meshes follow the shadows it casts (a floor lit only by a panel gets
+   * the panel's shadow boundaries); the mesher and the evaluator then run a
+   * second time with them. Default 0.1, range [0, 1]; 1 = off.
+   */
+  vtkSetClampMacro(SecondaryShooterFraction, double, 0.0, 1.0);
+  vtkGetMacro(SecondaryShooterFraction, double);
+  ///@}
+
+  ///@{
+  /**
    * Quality refinement of the discontinuity meshes: smallest angle in
    * degrees (vtkPenumbraDiscontinuityMesher::MinimumAngle). Default 0 (none), range
    * [0, 20.6] (the mesher's limit).
@@ -147,6 +160,7 @@ protected:
   bool ReuseTransport;
   double MinimumAngle;
   int SubdivisionLevel;
+  double SecondaryShooterFraction;
 
 private:
   vtkPenumbraSolver(const vtkPenumbraSolver&) = delete;

@@ -23,6 +23,8 @@
 #include "penumbraTimer.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -40,6 +42,23 @@ namespace
 /// grids), where one factor for all receivers would move the error of some
 /// onto the others; the shortfall then counts as escaped.
 constexpr double MaximumConservationCorrection = 0.02;
+
+/**
+ * Secondary shadows: a fast single shot evaluates a receiver by the exact
+ * method instead when occluders stand between them and the shot brings at
+ * least this share of the receiver's reflected light (there the fast
+ * method's visibility per node of the shooter's hierarchy would show as
+ * blocky shadows: a floor lit only by a half-lit panel over a baffle was
+ * 127% RMS off), within ExactPairBudget.
+ */
+constexpr double SecondaryShadowShare = 0.05;
+/// ... and when at least one of this many rays between points spread over
+/// the two is blocked (a small emitter in a closed room casts no shadow
+/// worth the exact method's cost).
+constexpr int ShadowTestRays = 64;
+/// Largest (shooter triangle, receiving point) pairs that one shot
+/// evaluates exactly for secondary shadows: about half a second on 2 cores.
+constexpr double ExactPairBudget = 2e6;
 
 /// Scratch memory of one chunk of a shot's parallel loop over points.
 struct ShotWorkspace
@@ -172,6 +191,12 @@ struct ProgressiveShooter::Internals
     bool closed, ShotRecord& record);
   void RecordTransport();
   void EnsureEnergy();
+  RGB ReflectedPower(int surface) const;
+  bool Shaded(int shooter, int receiver);
+  std::vector<int> SecondaryShadowReceivers(
+    int shooter, const std::vector<Receiver>& receivers, const std::vector<RGB>* irradiance);
+  long long ExactReceivers(const std::vector<Receiver>& receivers,
+    const std::vector<int>& which, int shooter, std::vector<RGB>& irradiance);
 
   ExactEvaluator Exact;
   Scene SceneCopy;
@@ -250,6 +275,16 @@ ShotRecord ProgressiveShooter::Internals::ShootSurfaces(
     else if (items > 0)
     {
       record.Rays += this->PointIrradiance(shot, receivers, irradiance);
+    }
+    if (items > 0 && !sweep && !group && method == ShotMethod::Fast)
+    {
+      const std::vector<int> exact =
+        this->SecondaryShadowReceivers(shooterId, receivers, &irradiance);
+      if (!exact.empty())
+      {
+        this->ExactReceivers(receivers, exact, shooterId, irradiance);
+        record.ExactReceivers = static_cast<int>(exact.size());
+      }
     }
     // Members whose light cannot leave the scene deliver all their power to
     // the receivers and to the backs of surfaces, which absorb it: a closed
@@ -351,6 +386,162 @@ long long ProgressiveShooter::Internals::SweepIrradiance(
   this->Recorded->Replay(
     this->Samples, this->Clusters, this->FirstItems(receivers), irradiance.data(), this->Loop);
   return rays;
+}
+
+/// Whether any of ShadowTestRays segments from the centroids of `shooter`'s
+/// triangles to `receiver`'s evaluation points (both taken at even steps
+/// through their lists) is blocked by a third surface.
+bool ProgressiveShooter::Internals::Shaded(int shooter, int receiver)
+{
+  const SurfaceSamples& s = this->Samples.Surfaces[shooter];
+  const std::vector<Vec3>& targets = this->Samples.EvaluationPoints[receiver];
+  if (s.Triangles.empty() || targets.empty())
+  {
+    return false;
+  }
+  const RayCaster& caster = this->Caster();
+  const PreparedPolygon& to = this->Samples.Polygon(receiver);
+  for (int k = 0; k < ShadowTestRays; ++k)
+  {
+    // Two coprime strides through the lists, so that pairs do not repeat.
+    const std::array<int, 3>& tri =
+      s.Triangles[(static_cast<std::size_t>(k) * 7919u) % s.Triangles.size()];
+    const Vec3 from = (s.Points[tri[0]] + s.Points[tri[1]] + s.Points[tri[2]]) * (1.0 / 3.0);
+    const Vec3& target = targets[(static_cast<std::size_t>(k) * 104729u) % targets.size()];
+    if (Dot(to.Normal, from - target) > 0.0 &&
+      caster.IsOccluded(from, target, shooter, receiver))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+/// pi * integral of (Total - L^e) of `surface`: the light it reflects now.
+RGB ProgressiveShooter::Internals::ReflectedPower(int surface) const
+{
+  const SurfaceSamples& s = this->Samples.Surfaces[surface];
+  std::vector<RGB> reflected(s.Total.size());
+  const RGB& emission = this->SceneCopy.Surfaces[surface].Emission;
+  for (std::size_t k = 0; k < reflected.size(); ++k)
+  {
+    reflected[k] = s.Total[k] + emission * -1.0;
+  }
+  return this->Samples.Integral(surface, reflected) * Pi;
+}
+
+/**
+ * The receivers (indices into `receivers`) of a fast shot of `shooter` to
+ * evaluate exactly for their secondary shadows (SecondaryShadowShare),
+ * largest share first within ExactPairBudget. The share of a receiver of
+ * reflectance rho: rho P / (R + rho P), P the power the shot brings it (by
+ * the fast method's `irradiance`, or without it by the form factor of two
+ * discs about the centroids, as a first guess), R its reflected power.
+ */
+std::vector<int> ProgressiveShooter::Internals::SecondaryShadowReceivers(
+  int shooter, const std::vector<Receiver>& receivers, const std::vector<RGB>* irradiance)
+{
+  std::vector<int> chosen;
+  const SurfaceSamples& source = this->Samples.Surfaces[shooter];
+  std::size_t triangles = 0;
+  for (const std::array<int, 3>& tri : source.Triangles)
+  {
+    triangles += (source.Unshot[tri[0]].IsZero() && source.Unshot[tri[1]].IsZero() &&
+                   source.Unshot[tri[2]].IsZero())
+      ? 0
+      : 1;
+  }
+  if (triangles == 0)
+  {
+    return chosen;
+  }
+  const PreparedPolygon& from = this->Samples.Polygon(shooter);
+  const double power = this->Samples.UnshotPower[shooter].Mean();
+  std::vector<std::pair<double, int>> shares;
+  std::vector<int> candidates;
+  std::vector<RGB> e;
+  for (std::size_t r = 0; r < receivers.size(); ++r)
+  {
+    const int i = receivers[r].Id;
+    const SurfaceSamples& s = this->Samples.Surfaces[i];
+    const double rho = this->SceneCopy.Surfaces[i].Reflectance.Mean();
+    if (rho <= 0.0 || s.Uniform || s.LinearPower ||
+      !this->Exact.ShaftCandidates(shooter, i, candidates) || candidates.empty())
+    {
+      continue; // invisible, or nothing between them to cast a shadow
+    }
+    if (!this->Shaded(shooter, i))
+    {
+      continue; // the occluders in the shaft block none of the test rays
+    }
+    double received;
+    if (irradiance)
+    {
+      const std::size_t count = this->Samples.EvaluationPoints[i].size();
+      e.assign(irradiance->begin() + static_cast<std::ptrdiff_t>(receivers[r].First),
+        irradiance->begin() + static_cast<std::ptrdiff_t>(receivers[r].First + count));
+      received = this->Samples.Integral(i, e).Mean();
+    }
+    else
+    {
+      const PreparedPolygon& to = this->Samples.Polygon(i);
+      const Vec3 d = to.Centroid - from.Centroid;
+      const double r2 = Dot(d, d);
+      const double cosines = std::max(0.0, Dot(from.Normal, d)) * std::max(0.0, -Dot(to.Normal, d));
+      received = r2 > 0.0 ? power * to.Area * cosines / (r2 * (Pi * r2 + to.Area)) : 0.0;
+    }
+    const double added = rho * received;
+    const double share = added / (this->ReflectedPower(i).Mean() + added);
+    if (share >= SecondaryShadowShare)
+    {
+      shares.emplace_back(share, static_cast<int>(r));
+    }
+  }
+  std::sort(shares.begin(), shares.end(),
+    [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
+      return a.first > b.first || (a.first == b.first && a.second < b.second);
+    });
+  double cost = 0.0;
+  for (const auto& entry : shares)
+  {
+    const double pairs = static_cast<double>(triangles) *
+      static_cast<double>(this->Samples.EvaluationPoints[receivers[entry.second].Id].size());
+    if (cost + pairs <= ExactPairBudget)
+    {
+      cost += pairs;
+      chosen.push_back(entry.second);
+    }
+  }
+  std::sort(chosen.begin(), chosen.end());
+  return chosen;
+}
+
+/// Overwrite the irradiance of the receivers `which` (indices into
+/// `receivers`) with the exact shot of `shooter`; returns 0 (no rays).
+long long ProgressiveShooter::Internals::ExactReceivers(const std::vector<Receiver>& receivers,
+  const std::vector<int>& which, int shooter, std::vector<RGB>& irradiance)
+{
+  Shot shot;
+  PrepareShot(this->Samples, shooter, ShotMethod::Exact, this->Settings.OpeningAngle,
+    this->Settings.LeafSize, shot);
+  std::vector<Receiver> subset;
+  std::size_t items = 0;
+  for (const int r : which)
+  {
+    subset.push_back({ receivers[r].Id, items, receivers[r].Candidates });
+    this->Exact.ShaftCandidates(shooter, receivers[r].Id, subset.back().Candidates);
+    items += this->Samples.EvaluationPoints[receivers[r].Id].size();
+  }
+  std::vector<RGB> exact(items);
+  this->PointIrradiance(shot, subset, exact);
+  for (std::size_t k = 0; k < which.size(); ++k)
+  {
+    const std::size_t count = this->Samples.EvaluationPoints[subset[k].Id].size();
+    std::copy(exact.begin() + static_cast<std::ptrdiff_t>(subset[k].First),
+      exact.begin() + static_cast<std::ptrdiff_t>(subset[k].First + count),
+      irradiance.begin() + static_cast<std::ptrdiff_t>(receivers[which[k]].First));
+  }
+  return 0;
 }
 
 /// Start the energy bookkeeping if not started, with the emitters' rays.
@@ -511,6 +702,7 @@ void ProgressiveShooter::Internals::Receive(const std::vector<Receiver>& receive
     }
   }
   record.Scale = scale;
+  if (std::getenv("DBGS")) std::fprintf(stderr, "shot %d method %d closed %d resolved %d computed/power %.6f backs %.3g\n", record.Shooter, (int)record.Method, (int)closed, (int)resolved, computed.R / record.Power.R, record.Backs.R / record.Power.R);
   for (std::size_t r = 0; r < receivers.size(); ++r)
   {
     const Receiver& rec = receivers[r];
@@ -754,6 +946,7 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
   const double target = I.Settings.UnshotFraction * reference;
   const auto weak = [this](double power) { return this->ChooseMethod(power) == ShotMethod::Fast; };
   SweepTail tail;
+  bool swept = false; // once sweeping, the strong secondary lights have been shot
   while (!ShootingDone(this->GetTotalUnshotPower().Mean(), target, summary.Shots,
     I.Settings.MaximumShots, summary.Reason))
   {
@@ -765,7 +958,22 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     }
     const ShotMethod method = this->ChooseMethod(I.Samples.UnshotPower[j].Mean());
     std::vector<int> members(1, j);
-    const bool sweep = method == ShotMethod::Fast && I.Settings.ReuseTransport;
+    bool sweep = method == ShotMethod::Fast && I.Settings.ReuseTransport;
+    bool secondary = false;
+    if (method == ShotMethod::Fast && !swept)
+    {
+      // A shooter whose light casts shadows that matter is shot on its own
+      // first, its shadows evaluated exactly (see SecondaryShadowShare).
+      std::size_t items = 0;
+      Shot probe;
+      probe.Empty = false;
+      probe.Shooter = j;
+      const std::vector<Internals::Receiver> receivers =
+        I.FindReceivers(probe, std::vector<char>(I.Samples.Surfaces.size(), 0), false, items);
+      secondary = !I.SecondaryShadowReceivers(j, receivers, nullptr).empty();
+      sweep = sweep && !secondary;
+    }
+    swept = swept || sweep;
     if (sweep)
     {
       // Every surface (j, the strongest, first): its unshot radiance shoots
@@ -778,7 +986,7 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
         }
       }
     }
-    else if (method == ShotMethod::Fast && I.Settings.GroupWeakShots)
+    else if (method == ShotMethod::Fast && I.Settings.GroupWeakShots && !secondary)
     {
       members = SelectGroup(I.Samples, j, I.Settings.GroupAcrossOrientations, weak);
     }
@@ -824,6 +1032,16 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     tail.RemainingError() < std::max(target, this->GetTotalUnshotPower().Mean()))
   {
     summary.TailPower = tail.Apply(I.Samples, I.Energy);
+  }
+  if (std::getenv("DBGS"))
+  {
+    for (int i = 0; i < 6 && i < this->GetNumberOfSurfaces(); ++i)
+    {
+      const SurfaceSamples& ss = I.Samples.Surfaces[i];
+      double area = 0.0;
+      for (double a : I.Samples.Areas[i]) area += a;
+      std::fprintf(stderr, "surface %d D-mean %.9g Q-mean %.9g\n", i, I.Samples.Integral(i, ss.Total).R / area, IntegrateLinear(ss, I.Samples.Areas[i], ss.Total).R / area);
+    }
   }
   summary.Energy = I.Energy.Current();
   summary.UnshotFraction = reference > 0.0 ? this->GetTotalUnshotPower().Mean() / reference : 0.0;

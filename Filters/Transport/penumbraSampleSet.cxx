@@ -8,6 +8,7 @@
 #include "penumbraScene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -46,6 +47,7 @@ SampleSet::SampleSet(const OccluderSet& occluders, std::size_t n)
   this->EvaluationPoints.resize(n);
   this->RayOrigins.resize(n);
   this->Weights.resize(n);
+  this->LumpedWeights.resize(n);
   this->UnshotPower.resize(n);
 }
 
@@ -118,6 +120,61 @@ void SampleSet::Set(
   this->Weights[surfaceId] = poly
     ? ComputeQuadratureWeights(this->Surfaces[surfaceId], areas, poly->AxisU, poly->AxisV)
     : std::vector<double>(this->Surfaces[surfaceId].Points.size(), 0.0);
+  // A weight below 0 (a few samples on creases) could give a negative
+  // power to a positive function: it is handed to the other corners of its
+  // triangles, by their linear weights, which keeps the sum (constants
+  // integrate exactly) and moves the mass by less than a triangle.
+  const SurfaceSamples& set = this->Surfaces[surfaceId];
+  std::vector<double> lumped(set.Points.size(), 0.0);
+  for (std::size_t t = 0; t < set.Triangles.size(); ++t)
+  {
+    for (const int k : set.Triangles[t])
+    {
+      lumped[k] += areas[t] / 3.0;
+    }
+  }
+  std::vector<double>& weights = this->Weights[surfaceId];
+  for (int pass = 0; pass < 4; ++pass)
+  {
+    std::vector<double> moved(weights.size(), 0.0);
+    bool any = false;
+    for (std::size_t t = 0; t < set.Triangles.size(); ++t)
+    {
+      const std::array<int, 3>& tri = set.Triangles[t];
+      for (int c = 0; c < 3; ++c)
+      {
+        const int k = tri[c];
+        if (!(weights[k] < 0.0) || !(lumped[k] > 0.0))
+        {
+          continue;
+        }
+        // This triangle's share of k's negative weight, to its other corners.
+        const double share = weights[k] * (areas[t] / 3.0) / lumped[k];
+        const int a = tri[(c + 1) % 3], b = tri[(c + 2) % 3];
+        const double wa = lumped[a], wb = lumped[b];
+        if (wa + wb > 0.0)
+        {
+          moved[a] += share * wa / (wa + wb);
+          moved[b] += share * wb / (wa + wb);
+          moved[k] -= share;
+          any = true;
+        }
+      }
+    }
+    for (std::size_t k = 0; k < weights.size(); ++k)
+    {
+      weights[k] += moved[k];
+    }
+    if (!any)
+    {
+      break;
+    }
+  }
+  for (std::size_t k = 0; k < weights.size(); ++k)
+  {
+    weights[k] = lumped[k] > 0.0 ? std::max(0.0, weights[k]) : 0.0;
+  }
+  this->LumpedWeights[surfaceId] = std::move(lumped);
   this->UpdateEvaluationPoints(surfaceId, boundaryOffset, rayOriginOffset);
   this->UpdateUnshotPower(surfaceId);
 }
@@ -147,36 +204,30 @@ RGB SampleSet::Integral(int surfaceId, const std::vector<RGB>& values) const
 void SampleSet::MatchUnshotToPower(int surfaceId)
 {
   SurfaceSamples& s = this->Surfaces[surfaceId];
-  const std::vector<double>& areas = this->Areas[surfaceId];
-  double area = 0.0;
-  std::vector<char> used(s.Points.size(), 0);
-  for (std::size_t t = 0; t < s.Triangles.size(); ++t)
-  {
-    area += areas[t];
-    for (const int k : s.Triangles[t])
-    {
-      used[k] = 1;
-    }
-  }
-  if (!(area > 0.0))
-  {
-    return;
-  }
-  // A constant offset: linear in Unshot (so a run's result does not depend
-  // on the order of its shots) and about 1e-3 of the mean on meshes fine
-  // enough for the light.
-  const RGB linear = IntegrateLinear(s, areas, s.Unshot);
+  const std::vector<double>& lumped = this->LumpedWeights[surfaceId];
+  const RGB linear = IntegrateLinear(s, this->Areas[surfaceId], s.Unshot);
   const RGB power = this->Integral(surfaceId, s.Unshot);
-  RGB offset;
   for (int c = 0; c < 3; ++c)
   {
-    offset[c] = (power[c] - linear[c]) / area;
-  }
-  for (std::size_t k = 0; k < s.Unshot.size(); ++k)
-  {
-    if (used[k])
+    // A constant over the samples where the radiance is not zero: smooth
+    // (no sample-to-sample ripple) and no light where there was none (the
+    // umbra of a secondary shooter stays dark).
+    double support = 0.0;
+    for (std::size_t k = 0; k < s.Unshot.size(); ++k)
     {
-      s.Unshot[k] += offset;
+      support += s.Unshot[k][c] > 0.0 ? lumped[k] : 0.0;
+    }
+    if (!(support > 0.0))
+    {
+      continue;
+    }
+    const double offset = (power[c] - linear[c]) / support;
+    for (RGB& value : s.Unshot)
+    {
+      if (value[c] > 0.0)
+      {
+        value[c] = std::max(0.0, value[c] + offset);
+      }
     }
   }
   // UnshotPower keeps the quadrature's value, which the offset interpolant

@@ -39,8 +39,12 @@ struct SampleSet
   /// one point for a Uniform surface with triangles.
   std::vector<std::vector<Vec3>> EvaluationPoints;
   std::vector<std::vector<Vec3>> RayOrigins; ///< fast method: where visibility rays start
-  /// Per surface: the quadrature weight of each sample (penumbraSampleQuadrature.h).
+  /// Per surface: the quadrature weight of each sample (penumbraSampleQuadrature.h,
+  /// never negative).
   std::vector<std::vector<double>> Weights;
+  /// Per surface: the linear interpolant's weight of each sample (a third of
+  /// the area of its triangles).
+  std::vector<std::vector<double>> LumpedWeights;
   std::vector<RGB> UnshotPower; ///< per surface: pi * integral of Unshot
 
   int GetNumberOfSurfaces() const { return static_cast<int>(this->Surfaces.size()); }
@@ -65,11 +69,13 @@ struct SampleSet
   RGB Integral(int surfaceId, const std::vector<RGB>& values) const;
 
   /**
-   * Offset the unshot radiance of surface `surfaceId` by a constant so that
-   * its linear interpolant, which the shots emit, carries the unshot power
-   * (the quadrature's integral, which sees the curvature the interpolant
-   * misses). UnshotPower is kept: call it once per shot, just before the
-   * unshot radiance is shot.
+   * Offset the unshot radiance of surface `surfaceId`, per channel, by a
+   * constant where it is positive, so that its linear interpolant, which the
+   * shots emit, carries the unshot power (the quadrature's integral, which
+   * sees the curvature the interpolant misses; values that would go below 0
+   * stay at 0). Linear in Unshot as long as its zeros stay where they are,
+   * so the order of the shots hardly matters. UnshotPower is kept: call it
+   * once per shot, just before the unshot radiance is shot.
    */
   void MatchUnshotToPower(int surfaceId);
 

@@ -32,14 +32,15 @@ struct ShotRecord
   RGB Incident;       ///< power incident on the receivers' sample meshes
   RGB Absorbed;       ///< absorbed: sum of (1 - rho_i) * incident_i, plus Backs
   /// Power that met the backs of surfaces (black, so absorbed), estimated by
-  /// rays; 0 when the shot's light can leave the scene (it then counts as
-  /// escaped).
+  /// rays (penumbraEscapeRays.h).
   RGB Backs;
-  /// What left the scene (estimated by rays; 0 when none can leave).
+  /// What left the scene, estimated by rays: 0 when none of the shooters'
+  /// escape rays escapes.
   RGB Escaped;
   /// Power - Incident - Backs - Escaped: what the receivers' quadrature of
   /// the computed irradiance missed (positive) or found in excess
-  /// (negative), the discretisation's imbalance.
+  /// (negative), the discretisation's imbalance, plus in an open scene the
+  /// noise of the rays' estimates.
   RGB Residual;
   /// Factor applied to the computed irradiance so that the receivers got
   /// Power - Backs, when none of the shooters' light can leave the scene
@@ -47,6 +48,8 @@ struct ShotRecord
   RGB Scale = RGB(1.0, 1.0, 1.0);
   int GroupSize = 1;  ///< surfaces shot together (GroupWeakShots); Shooter is the strongest
   int Receivers = 0;  ///< receivers that exchange light with the shooter
+  /// Of which evaluated exactly for their secondary shadows (a fast shot).
+  int ExactReceivers = 0;
   long long Samples = 0;      ///< samples evaluated
   long long Rays = 0;         ///< occlusion rays (fast method)
   double Seconds = 0.0;       ///< wall-clock time of the shot

@@ -23,6 +23,13 @@ struct TransportSettings
   /// indirect light is interpolated back onto every sample; the direct light
   /// keeps every sample. [100000], >= 0; 0 = always every sample.
   long long MaximumIndirectSamples = 100000;
+  /// Secondary shooters as the paper means them: a surface (not an
+  /// emitter) whose direct light reflects at least this fraction of the
+  /// emitted power also shoots for the discontinuity mesher, so that the
+  /// receivers' sample meshes follow the shadows it casts; the composed
+  /// solver then meshes and evaluates the direct light a second time. At
+  /// most the 4 strongest such surfaces. [0.1], in [0, 1]; 1 = off.
+  double SecondaryShooterFraction = 0.1;
 };
 
 } // namespace penumbra

@@ -17,7 +17,7 @@ second.
 """
 import numpy as np
 
-__all__ = ["box_room", "closed_cube", "closed_cube_radiance", "scene_from_polygons", "ROOM_CELLS", "ROOM_HEIGHT", "LIGHT_EMISSION"]
+__all__ = ["box_room", "closed_cube", "closed_cube_radiance", "half_lit_panel", "scene_from_polygons", "ROOM_CELLS", "ROOM_HEIGHT", "LIGHT_EMISSION"]
 
 #: Number of room surfaces (floor, ceiling, 4 walls): cells 0-5 of a box room.
 ROOM_CELLS = 6
@@ -291,3 +291,26 @@ def closed_cube_radiance(reflectance, side=4.0, emitter_side=0.02, emission=1000
     emitted = np.pi * emission * 6.0 * emitter_side ** 2
     total_area = 6.0 * (side ** 2 + emitter_side ** 2)
     return reflectance * emitted / (np.pi * total_area * (1.0 - reflectance))
+
+
+def half_lit_panel():
+    """A floor lit only through a half-lit panel (metres, y up): a light
+    (0.4 m square at x = 1, facing -x, L^e = 50) above a black baffle
+    (y = 1.5, x in [0, 1]) shines on the upper half of a white panel (x = 0,
+    y in [0.5, 2.5], z in [1, 3], reflectance 0.9). The baffle touches the
+    panel, hides the light from the grey floor (4 x 4 m, reflectance 0.5)
+    and casts the panel's light into a shadow on it: every watt on the
+    floor comes from the panel, through the baffle's secondary shadow.
+    Cells: 0 floor, 1 panel, 2 light, 3 baffle."""
+    black, grey, white = (0.0, 0.0, 0.0), (0.5, 0.5, 0.5), (0.9, 0.9, 0.9)
+
+    def quad(corners, reflectance, emission=(0.0, 0.0, 0.0)):
+        return {"vertices": corners, "reflectance": reflectance, "emission": emission}
+
+    return scene_from_polygons([
+        quad([(0, 0, 0), (0, 0, 4), (4, 0, 4), (4, 0, 0)], grey),
+        quad([(0, 0.5, 1), (0, 2.5, 1), (0, 2.5, 3), (0, 0.5, 3)], white),
+        quad([(1.0, 2.0, 1.8), (1.0, 2.0, 2.2), (1.0, 2.4, 2.2), (1.0, 2.4, 1.8)],
+             black, (50.0, 50.0, 50.0)),
+        quad([(0, 1.5, 0.5), (0, 1.5, 3.5), (1.0, 1.5, 3.5), (1.0, 1.5, 0.5)], black),
+    ])
