@@ -60,11 +60,11 @@ struct ProgressiveShooterSettings
   /// points, the fast one about its hierarchy's cut: at 0.05 the Cornell box
   /// takes 70 s instead of 4.4 s (0.42% against 0.51% RMS against the path-
   /// traced reference), at 0.2 a room of 100 boxes over 845 s instead of
-  /// 55 s. The fast method resolves visibility per node of the shooter's
-  /// hierarchy, so the shadows a strong secondary shooter casts onto a dim
-  /// surface come out blurred: a floor lit only by a half-lit panel over a
-  /// baffle is 127% RMS off at 1 and 0.13% at 0.2 (display subdivision 4)
-  /// (Benchmarks/defaults_benchmark.py; Documentation/benchmarks.md).
+  /// 55 s. Where the fast method's visibility per node would blur the
+  /// shadows a strong secondary shooter casts, its shot evaluates those
+  /// receivers exactly whatever this setting ("Secondary shadows" in the
+  /// design page): a floor lit only by a half-lit panel over a baffle is
+  /// 0.30% RMS off at 1 (Benchmarks/secondary_shadow.py).
   /// [1], in [0, inf]: 0 = every shot exact, 1 = only shots as strong as
   /// all the emission, infinity = every shot fast.
   double ExactPowerFraction = 1.0;
