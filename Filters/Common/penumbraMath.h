@@ -30,6 +30,22 @@ inline double Cross2(const P2& o, const P2& a, const P2& b)
   return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
+/// The radical inverse of `index` in `base`: coordinate `base` of the
+/// Halton sequence's point number `index`, in [0, 1).
+inline double RadicalInverse(unsigned index, unsigned base)
+{
+  const double inverse = 1.0 / base;
+  double scale = inverse;
+  double value = 0.0;
+  while (index > 0)
+  {
+    value += (index % base) * scale;
+    index /= base;
+    scale *= inverse;
+  }
+  return value;
+}
+
 } // namespace penumbra
 
 #endif

@@ -63,12 +63,7 @@ ShootingEnergy EnergyBookkeeping::InitialEnergy(
     e.InitialUnshot += samples.UnshotPower[i];
     // Reflected radiance received so far (direct light): Total - L^e.
     const Surface& surface = scene.Surfaces[i];
-    std::vector<RGB> reflected(s.Total.size());
-    for (std::size_t k = 0; k < reflected.size(); ++k)
-    {
-      reflected[k] = Difference(s.Total[k], surface.Emission);
-    }
-    const RGB power = samples.Integral(static_cast<int>(i), reflected) * Pi;
+    const RGB power = samples.ReflectedPower(static_cast<int>(i), surface.Emission);
     for (int c = 0; c < 3; ++c)
     {
       const double rho = surface.Reflectance[c];

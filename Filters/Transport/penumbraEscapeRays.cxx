@@ -17,21 +17,6 @@ namespace
 
 constexpr double OriginInset = 0.01;
 
-/// The radical inverse of `index` in `base` (a Halton coordinate).
-double RadicalInverse(unsigned index, unsigned base)
-{
-  double inverse = 1.0 / base;
-  double scale = inverse;
-  double value = 0.0;
-  while (index > 0)
-  {
-    value += (index % base) * scale;
-    index /= base;
-    scale *= inverse;
-  }
-  return value;
-}
-
 } // namespace
 
 int EscapeRays::RaysPerSurface(int surfaces)

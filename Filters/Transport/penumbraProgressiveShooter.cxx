@@ -18,6 +18,7 @@
 #include "penumbraReceiverClusters.h"
 #include "penumbraRecordedTransport.h"
 #include "penumbraSampleSet.h"
+#include "penumbraShadowRays.h"
 #include "penumbraShot.h"
 #include "penumbraSweepTail.h"
 #include "penumbraTimer.h"
@@ -45,17 +46,13 @@ constexpr double MaximumConservationCorrection = 0.02;
 
 /**
  * Secondary shadows: a fast single shot evaluates a receiver by the exact
- * method instead when occluders stand between them and the shot brings at
+ * method instead when occluders stand between them (AnyRayBlocked) and the shot brings at
  * least this share of the receiver's reflected light (there the fast
  * method's visibility per node of the shooter's hierarchy would show as
  * blocky shadows: a floor lit only by a half-lit panel over a baffle was
  * 127% RMS off), within ExactPairBudget.
  */
 constexpr double SecondaryShadowShare = 0.05;
-/// ... and when at least one of this many rays between points spread over
-/// the two is blocked (a small emitter in a closed room casts no shadow
-/// worth the exact method's cost).
-constexpr int ShadowTestRays = 64;
 /// Largest (shooter triangle, receiving point) pairs that one shot
 /// evaluates exactly for secondary shadows: about half a second on 2 cores.
 constexpr double ExactPairBudget = 2e6;
@@ -87,50 +84,6 @@ RGB EvaluateShot(const Shot& shot, const ExactEvaluator& exact, const Vec3& x, c
 }
 
 } // namespace
-
-void ProgressiveShooterSettings::Validate() const
-{
-  const auto fail = [](const std::string& what) {
-    throw InputError("progressive shooter: " + what);
-  };
-  if (!(this->UnshotFraction >= 0.0 && this->UnshotFraction <= 1.0))
-  {
-    fail("UnshotFraction must be in [0, 1], got " + std::to_string(this->UnshotFraction));
-  }
-  if (this->MaximumShots < 0)
-  {
-    fail("MaximumShots must be >= 0, got " + std::to_string(this->MaximumShots));
-  }
-  if (!(this->ExactPowerFraction >= 0.0))
-  {
-    fail("ExactPowerFraction must be in [0, inf], got " + std::to_string(this->ExactPowerFraction));
-  }
-  if (!(this->CoarseShotFraction >= 0.0 && this->CoarseShotFraction <= 1.0))
-  {
-    fail("CoarseShotFraction must be in [0, 1], got " + std::to_string(this->CoarseShotFraction));
-  }
-  if (!(this->OpeningAngle > 0.0 && this->OpeningAngle <= 2.0))
-  {
-    fail("OpeningAngle must be in (0, 2], got " + std::to_string(this->OpeningAngle));
-  }
-  if (!(this->ReceiverClusterSize >= 0 && this->ReceiverClusterSize <= 4096))
-  {
-    fail("ReceiverClusterSize must be in [0, 4096], got " +
-      std::to_string(this->ReceiverClusterSize));
-  }
-  if (!(this->LeafSize > 0.0 && this->LeafSize <= 1.0))
-  {
-    fail("LeafSize must be in (0, 1], got " + std::to_string(this->LeafSize));
-  }
-  if (!(this->BoundaryOffset >= 0.0 && this->BoundaryOffset <= 1e-2))
-  {
-    fail("BoundaryOffset must be in [0, 1e-2], got " + std::to_string(this->BoundaryOffset));
-  }
-  if (!(this->RayOriginOffset >= 0.0 && this->RayOriginOffset <= 1e-2))
-  {
-    fail("RayOriginOffset must be in [0, 1e-2], got " + std::to_string(this->RayOriginOffset));
-  }
-}
 
 struct ProgressiveShooter::Internals
 {
@@ -191,8 +144,6 @@ struct ProgressiveShooter::Internals
     bool closed, ShotRecord& record);
   void RecordTransport();
   void EnsureEnergy();
-  RGB ReflectedPower(int surface) const;
-  bool Shaded(int shooter, int receiver);
   std::vector<int> SecondaryShadowReceivers(
     int shooter, const std::vector<Receiver>& receivers, const std::vector<RGB>* irradiance);
   long long ExactReceivers(const std::vector<Receiver>& receivers,
@@ -388,48 +339,6 @@ long long ProgressiveShooter::Internals::SweepIrradiance(
   return rays;
 }
 
-/// Whether any of ShadowTestRays segments from the centroids of `shooter`'s
-/// triangles to `receiver`'s evaluation points (both taken at even steps
-/// through their lists) is blocked by a third surface.
-bool ProgressiveShooter::Internals::Shaded(int shooter, int receiver)
-{
-  const SurfaceSamples& s = this->Samples.Surfaces[shooter];
-  const std::vector<Vec3>& targets = this->Samples.EvaluationPoints[receiver];
-  if (s.Triangles.empty() || targets.empty())
-  {
-    return false;
-  }
-  const RayCaster& caster = this->Caster();
-  const PreparedPolygon& to = this->Samples.Polygon(receiver);
-  for (int k = 0; k < ShadowTestRays; ++k)
-  {
-    // Two coprime strides through the lists, so that pairs do not repeat.
-    const std::array<int, 3>& tri =
-      s.Triangles[(static_cast<std::size_t>(k) * 7919u) % s.Triangles.size()];
-    const Vec3 from = (s.Points[tri[0]] + s.Points[tri[1]] + s.Points[tri[2]]) * (1.0 / 3.0);
-    const Vec3& target = targets[(static_cast<std::size_t>(k) * 104729u) % targets.size()];
-    if (Dot(to.Normal, from - target) > 0.0 &&
-      caster.IsOccluded(from, target, shooter, receiver))
-    {
-      return true;
-    }
-  }
-  return false;
-}
-
-/// pi * integral of (Total - L^e) of `surface`: the light it reflects now.
-RGB ProgressiveShooter::Internals::ReflectedPower(int surface) const
-{
-  const SurfaceSamples& s = this->Samples.Surfaces[surface];
-  std::vector<RGB> reflected(s.Total.size());
-  const RGB& emission = this->SceneCopy.Surfaces[surface].Emission;
-  for (std::size_t k = 0; k < reflected.size(); ++k)
-  {
-    reflected[k] = s.Total[k] + emission * -1.0;
-  }
-  return this->Samples.Integral(surface, reflected) * Pi;
-}
-
 /**
  * The receivers (indices into `receivers`) of a fast shot of `shooter` to
  * evaluate exactly for their secondary shadows (SecondaryShadowShare),
@@ -470,7 +379,7 @@ std::vector<int> ProgressiveShooter::Internals::SecondaryShadowReceivers(
     {
       continue; // invisible, or nothing between them to cast a shadow
     }
-    if (!this->Shaded(shooter, i))
+    if (!AnyRayBlocked(this->Samples, this->Caster(), shooter, i))
     {
       continue; // the occluders in the shaft block none of the test rays
     }
@@ -491,7 +400,8 @@ std::vector<int> ProgressiveShooter::Internals::SecondaryShadowReceivers(
       received = r2 > 0.0 ? power * to.Area * cosines / (r2 * (Pi * r2 + to.Area)) : 0.0;
     }
     const double added = rho * received;
-    const double share = added / (this->ReflectedPower(i).Mean() + added);
+    const RGB reflected = this->Samples.ReflectedPower(i, this->SceneCopy.Surfaces[i].Emission);
+    const double share = added / (reflected.Mean() + added);
     if (share >= SecondaryShadowShare)
     {
       shares.emplace_back(share, static_cast<int>(r));

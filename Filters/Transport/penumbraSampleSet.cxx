@@ -201,6 +201,17 @@ RGB SampleSet::Integral(int surfaceId, const std::vector<RGB>& values) const
   return Integrate(this->Weights[surfaceId], values);
 }
 
+RGB SampleSet::ReflectedPower(int surfaceId, const RGB& emission) const
+{
+  const SurfaceSamples& s = this->Surfaces[surfaceId];
+  std::vector<RGB> reflected(s.Total.size());
+  for (std::size_t k = 0; k < reflected.size(); ++k)
+  {
+    reflected[k] = s.Total[k] + emission * -1.0;
+  }
+  return this->Integral(surfaceId, reflected) * Pi;
+}
+
 void SampleSet::MatchUnshotToPower(int surfaceId)
 {
   SurfaceSamples& s = this->Surfaces[surfaceId];

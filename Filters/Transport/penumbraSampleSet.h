@@ -68,6 +68,10 @@ struct SampleSet
   /// (Weights), per channel.
   RGB Integral(int surfaceId, const std::vector<RGB>& values) const;
 
+  /// pi * integral of (Total - `emission`) over surface `surfaceId`: the
+  /// light it reflects now, per channel.
+  RGB ReflectedPower(int surfaceId, const RGB& emission) const;
+
   /**
    * Offset the unshot radiance of surface `surfaceId`, per channel, by a
    * constant where it is positive, so that its linear interpolant, which the

@@ -35,26 +35,14 @@ Vec3 PointOn(const OccluderSet& occluders, int surface, double u, double v)
   return p.Centroid + p.AxisU * (radius * std::cos(angle)) + p.AxisV * (radius * std::sin(angle));
 }
 
-double Halton(unsigned index, unsigned base)
-{
-  double f = 1.0, r = 0.0;
-  while (index > 0)
-  {
-    f /= base;
-    r += f * (index % base);
-    index /= base;
-  }
-  return r;
-}
-
 bool Shaded(const PreparedScene& scene, int shooter, int receiver)
 {
   const OccluderSet& occluders = *scene.GetOccluders();
   const RayCaster& caster = *scene.GetRayCaster();
   for (int k = 1; k <= ShadingRays; ++k)
   {
-    const Vec3 a = PointOn(occluders, shooter, Halton(k, 2), Halton(k, 3));
-    const Vec3 b = PointOn(occluders, receiver, Halton(k, 5), Halton(k, 7));
+    const Vec3 a = PointOn(occluders, shooter, RadicalInverse(k, 2), RadicalInverse(k, 3));
+    const Vec3 b = PointOn(occluders, receiver, RadicalInverse(k, 5), RadicalInverse(k, 7));
     if (caster.IsOccluded(a, b, shooter, receiver))
     {
       return true;

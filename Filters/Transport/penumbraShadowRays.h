@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @file penumbraShadowRays.h
+ * @brief Whether occluders shade one surface's samples from another's
+ * (private): the test that decides which receivers of a shot need their
+ * secondary shadows evaluated exactly (Documentation/design/transport.md,
+ * "Secondary shadows").
+ */
+#ifndef penumbraShadowRays_h
+#define penumbraShadowRays_h
+
+namespace penumbra
+{
+
+class RayCaster;
+struct SampleSet;
+
+/**
+ * Whether any of 64 segments from the centroids of `shooter`'s triangles to
+ * `receiver`'s evaluation points in front of it (both taken at even steps
+ * through their lists) is blocked by a third surface. False when either has
+ * no samples.
+ */
+bool AnyRayBlocked(const SampleSet& samples, const RayCaster& caster, int shooter, int receiver);
+
+} // namespace penumbra
+
+#endif
