@@ -5,13 +5,15 @@ boxes (penumbra.generators.box_room) of N polygons.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
         Benchmarks/scale_benchmark.py [--sizes 1000 5000 20000] [--threads 2] \\
-        [--runs 3] [--indirect-samples N] [--no-reuse]
+        [--runs 3] [--indirect-samples N] [--no-reuse] [--unshot-fraction F]
 
 Each size runs in its own process (so peak memory is that solve's alone):
-penumbra.solve(scene, unshot_fraction=0.01), i.e. direct light plus
-interreflections until 1% of the emitted power is left unshot. Prints a
+penumbra.solve(scene) with the solver's defaults, i.e. direct light plus
+interreflections until UnshotFraction of the emitted power is left unshot
+(--unshot-fraction sets it). Prints a
 Markdown table (polygons, wall time, peak resident memory, stage times,
-points shot on, shots)
+points shot on, shots, the escaped and residual power as fractions of the
+emitted: a box room is closed, so escaped should be 0)
 and the least-squares growth exponents of time and memory against the
 number of polygons, and draws a log-log chart into --out. With --runs R
 each size is solved R times (one process each) and the table gives the
@@ -48,8 +50,7 @@ def run_child(polygons, threads, seed, settings):
         starts.setdefault(stage, time.perf_counter())
 
     start = time.perf_counter()
-    result = penumbra.solve(scene, threads=threads, unshot_fraction=0.01, progress=progress,
-                            **settings)
+    result = penumbra.solve(scene, threads=threads, progress=progress, **settings)
     end = time.perf_counter()
     seconds = end - start
     ordered = sorted(starts.items(), key=lambda item: item[1]) + [("end", end)]
@@ -60,7 +61,17 @@ def run_child(polygons, threads, seed, settings):
         "stages": stages, "output_points": result.GetNumberOfPoints(),
         "indirect_samples": int(field.GetArray("IndirectSamples").GetValue(0)),
         "shots": int(field.GetArray("Shots").GetValue(0)),
-        "unshot": field.GetArray("UnshotFraction").GetValue(0)}))
+        "unshot": field.GetArray("UnshotFraction").GetValue(0),
+        "escaped": power_fraction(field, "EscapedPower"),
+        "residual": power_fraction(field, "ResidualPower")}))
+
+
+def power_fraction(field, name):
+    """A power field as a fraction of the emitted power (channel means)."""
+    emitted = field.GetArray("EmittedPower")
+    value = field.GetArray(name)
+    total = sum(emitted.GetComponent(0, c) for c in range(3))
+    return sum(value.GetComponent(0, c) for c in range(3)) / total if total > 0 else 0.0
 
 
 def fit(xs, ys):
@@ -82,6 +93,8 @@ def main():
                         help="MaximumIndirectSamples (default: the solver's)")
     parser.add_argument("--no-reuse", action="store_true",
                         help="ReuseTransport off (default: the solver's, on)")
+    parser.add_argument("--unshot-fraction", type=float,
+                        help="UnshotFraction (default: the solver's)")
     parser.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child is not None:
@@ -90,13 +103,16 @@ def main():
             settings["maximum_indirect_samples"] = args.indirect_samples
         if args.no_reuse:
             settings["reuse_transport"] = False
+        if args.unshot_fraction is not None:
+            settings["unshot_fraction"] = args.unshot_fraction
         run_child(args.child, args.threads, args.seed, settings)
         return 0
 
     rows = []
     print("| polygons | time (s, range) | peak memory (MB) | mesher / evaluator / shooter / "
-          "reconstructor (s) | output points | points shot on | shots | unshot left |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+          "reconstructor (s) | output points | points shot on | shots | unshot left | "
+          "escaped | residual |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for size in args.sizes:
         command = [sys.executable, os.path.abspath(__file__), "--child", str(size),
                    "--threads", str(args.threads), "--seed", str(args.seed)]
@@ -104,16 +120,19 @@ def main():
             command += ["--indirect-samples", str(args.indirect_samples)]
         if args.no_reuse:
             command.append("--no-reuse")
+        if args.unshot_fraction is not None:
+            command += ["--unshot-fraction", repr(args.unshot_fraction)]
         runs = []
         for _ in range(max(1, args.runs)):
             try:
                 done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                       universal_newlines=True, timeout=args.timeout)
             except subprocess.TimeoutExpired:
-                print("| %d | > %.0f (stopped) | | | | | | |" % (size, args.timeout), flush=True)
+                print("| %d | > %.0f (stopped) | | | | | | | | |" % (size, args.timeout),
+                      flush=True)
                 break
             if done.returncode != 0:
-                print("| %d | failed: %s | | | | | | |" % (
+                print("| %d | failed: %s | | | | | | | | |" % (
                     size, (done.stderr.strip().splitlines() or ["?"])[-1]), flush=True)
                 break
             runs.append(json.loads(done.stdout.strip().splitlines()[-1]))
@@ -130,9 +149,10 @@ def main():
                            ("mesher", "evaluator", "shooter", "reconstructor"))
         spread = "" if len(runs) == 1 else " (%.1f-%.1f)" % (
             min(r["seconds"] for r in runs), max(r["seconds"] for r in runs))
-        print("| %d | %.1f%s | %.0f | %s | %d | %d | %d | %.4f |" % (
+        print("| %d | %.1f%s | %.0f | %s | %d | %d | %d | %.4f | %.2e | %.2e |" % (
             row["polygons"], row["seconds"], spread, row["peak_mb"], stage, row["output_points"],
-            row["indirect_samples"], row["shots"], row["unshot"]), flush=True)
+            row["indirect_samples"], row["shots"], row["unshot"], row["escaped"],
+            row["residual"]), flush=True)
     if not rows:
         return 1
     polygons = [r["polygons"] for r in rows]
@@ -159,8 +179,9 @@ def main():
     label = "default solve" if args.indirect_samples is None and not args.no_reuse else \
         "indirect samples %s%s" % (args.indirect_samples or "default",
                                    ", transport not reused" if args.no_reuse else "")
-    axis.set_title("%s, %d threads, unshot 1%%%s" % (
-        label, args.threads, ", median of %d" % args.runs if args.runs > 1 else ""))
+    axis.set_title("%s, %d threads%s%s" % (
+        label, args.threads,
+        "" if args.unshot_fraction is None else ", unshot %g" % args.unshot_fraction, ", median of %d" % args.runs if args.runs > 1 else ""))
     axis.legend()
     axis.grid(True, which="both", alpha=0.3)
     path = os.path.join(args.out, "scale.png")

@@ -134,6 +134,29 @@ void DiscontinuityMesher::Internals::Check(
   }
 }
 
+namespace
+{
+/// Whether shooter s traces its boundaries on the receiver (ShooterReceivers).
+bool MeshesOn(const DiscontinuityMeshSettings& settings, int s, int receiverId)
+{
+  if (settings.ShooterReceivers.empty())
+  {
+    return true;
+  }
+  for (std::size_t k = 0; k < settings.Shooters.size(); ++k)
+  {
+    const std::vector<int>& receivers = settings.ShooterReceivers[k];
+    if (settings.Shooters[k] == s &&
+      (receivers.empty() ||
+        std::find(receivers.begin(), receivers.end(), receiverId) != receivers.end()))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+} // namespace
+
 std::vector<int> DiscontinuityMesher::Internals::Select(
   const DiscontinuityMeshSettings& settings) const
 {
@@ -146,6 +169,26 @@ std::vector<int> DiscontinuityMesher::Internals::Select(
     os << "ShooterRadiance has " << settings.ShooterRadiance.size() << " entries but Shooters has "
        << settings.Shooters.size();
     throw InputError(os.str());
+  }
+  if (!settings.ShooterReceivers.empty() &&
+    settings.ShooterReceivers.size() != settings.Shooters.size())
+  {
+    std::ostringstream os;
+    os << "ShooterReceivers has " << settings.ShooterReceivers.size()
+       << " entries but Shooters has " << settings.Shooters.size();
+    throw InputError(os.str());
+  }
+  for (const std::vector<int>& receivers : settings.ShooterReceivers)
+  {
+    for (const int id : receivers)
+    {
+      if (id < 0 || id >= count)
+      {
+        std::ostringstream os;
+        os << "ShooterReceivers: receiver id " << id << " is out of range [0, " << count << ")";
+        throw InputError(os.str());
+      }
+    }
   }
   if (!settings.Shooters.empty())
   {
@@ -196,7 +239,10 @@ std::vector<detail::Segment2> DiscontinuityMesher::Internals::Boundaries(int rec
     detail::AddContacts(
       this->Topology, this->Occluders, receiverId, settings, frame, segments, stats);
   }
-  const std::vector<int> shooters = this->Select(settings);
+  std::vector<int> shooters = this->Select(settings);
+  shooters.erase(std::remove_if(shooters.begin(), shooters.end(),
+                   [&](int s) { return !MeshesOn(settings, s, receiverId); }),
+    shooters.end());
   const std::size_t firstShadow = segments.size();
   // The jump threshold's reference: the largest unoccluded direct radiance
   // over the receiver (sum over shooters). Shadows whose jump cannot reach

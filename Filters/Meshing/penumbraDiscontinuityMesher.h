@@ -85,6 +85,11 @@ struct DiscontinuityMeshSettings
   /// JumpThreshold, e.g. the unshot radiance of a secondary shooter. Empty
   /// [default]: each shooter's Emission.
   std::vector<RGB> ShooterRadiance;
+  /// Optional receivers of each entry of Shooters (same size): that shooter's
+  /// boundaries are traced on these receivers only (an empty list: on every
+  /// receiver), e.g. a secondary shooter on the receivers whose light it
+  /// dominates. Empty [default]: every shooter on every receiver.
+  std::vector<std::vector<int>> ShooterReceivers;
   /// With an empty Shooters list: skip emitters whose power (mean of the RGB
   /// channels) is below this fraction of the total emitted power. [0], in [0, 1].
   double ShooterPowerFraction = 0.0;

@@ -6,6 +6,7 @@
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkFieldData.h"
+#include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -45,7 +46,18 @@ vtkPenumbraDiscontinuityMesher::vtkPenumbraDiscontinuityMesher()
 
 void vtkPenumbraDiscontinuityMesher::AddShooterId(vtkIdType id)
 {
+  this->AddShooterId(id, nullptr);
+}
+
+void vtkPenumbraDiscontinuityMesher::AddShooterId(vtkIdType id, vtkIdList* receivers)
+{
   this->ShooterIds.push_back(id);
+  std::vector<vtkIdType> list;
+  for (vtkIdType k = 0; receivers && k < receivers->GetNumberOfIds(); ++k)
+  {
+    list.push_back(receivers->GetId(k));
+  }
+  this->ShooterReceivers.push_back(std::move(list));
   this->Modified();
 }
 
@@ -54,7 +66,21 @@ void vtkPenumbraDiscontinuityMesher::RemoveAllShooterIds()
   if (!this->ShooterIds.empty())
   {
     this->ShooterIds.clear();
+    this->ShooterReceivers.clear();
     this->Modified();
+  }
+}
+
+void vtkPenumbraDiscontinuityMesher::GetShooterReceivers(
+  vtkIdType index, vtkIdList* receivers) const
+{
+  receivers->Reset();
+  if (index >= 0 && index < this->GetNumberOfShooterIds())
+  {
+    for (const vtkIdType id : this->ShooterReceivers[index])
+    {
+      receivers->InsertNextId(id);
+    }
   }
 }
 
@@ -186,9 +212,18 @@ int vtkPenumbraDiscontinuityMesher::Execute(
   }
 
   penumbra::DiscontinuityMeshSettings settings;
-  for (vtkIdType id : this->ShooterIds)
+  bool restricted = false;
+  for (std::size_t k = 0; k < this->ShooterIds.size(); ++k)
   {
-    settings.Shooters.push_back(static_cast<int>(id));
+    settings.Shooters.push_back(static_cast<int>(this->ShooterIds[k]));
+    restricted = restricted || !this->ShooterReceivers[k].empty();
+  }
+  if (restricted)
+  {
+    for (const std::vector<vtkIdType>& receivers : this->ShooterReceivers)
+    {
+      settings.ShooterReceivers.emplace_back(receivers.begin(), receivers.end());
+    }
   }
   settings.ShooterPowerFraction = this->ShooterPowerFraction;
   settings.MinimumAngle = this->MinimumAngle;
@@ -251,9 +286,18 @@ void vtkPenumbraDiscontinuityMesher::PrintSelf(ostream& os, vtkIndent indent)
   {
     os << " (every emitter above ShooterPowerFraction)";
   }
-  for (vtkIdType id : this->ShooterIds)
+  for (std::size_t k = 0; k < this->ShooterIds.size(); ++k)
   {
-    os << " " << id;
+    os << " " << this->ShooterIds[k];
+    if (!this->ShooterReceivers[k].empty())
+    {
+      os << " (on";
+      for (const vtkIdType id : this->ShooterReceivers[k])
+      {
+        os << " " << id;
+      }
+      os << ")";
+    }
   }
   os << "\n";
   os << indent << "ShooterPowerFraction: " << this->ShooterPowerFraction << "\n";

@@ -39,6 +39,8 @@
 
 #include <vector> // for std::vector
 
+class vtkIdList;
+
 class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraDiscontinuityMesher : public vtkPenumbraAlgorithm
 {
 public:
@@ -50,12 +52,18 @@ public:
   /**
    * The shooters: scene cell ids. Empty (the default) selects every emitter
    * whose power is at least ShooterPowerFraction of the total emitted power.
-   * An id that is not a scene cell is an error.
+   * A shooter added with `receivers` (scene cell ids, not empty) traces its
+   * boundaries on those receivers only, e.g. a secondary shooter on the
+   * receivers whose light it dominates; without, on every receiver. An id
+   * that is not a scene cell is an error.
    */
   void AddShooterId(vtkIdType id);
+  void AddShooterId(vtkIdType id, vtkIdList* receivers);
   void RemoveAllShooterIds();
   vtkIdType GetNumberOfShooterIds() const;
   vtkIdType GetShooterId(vtkIdType index) const;
+  /// The receivers of shooter entry `index` (none: every receiver).
+  void GetShooterReceivers(vtkIdType index, vtkIdList* receivers) const;
   ///@}
 
   ///@{
@@ -160,6 +168,7 @@ protected:
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   std::vector<vtkIdType> ShooterIds;
+  std::vector<std::vector<vtkIdType>> ShooterReceivers; ///< per entry of ShooterIds
   double ShooterPowerFraction;
   double MinimumAngle;
   bool OccluderOccluderEvents;

@@ -14,6 +14,7 @@
 #include "vtkDataArray.h"
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
+#include "vtkIdList.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
@@ -219,7 +220,7 @@ int vtkPenumbraSolver::Execute(
     {
       // Secondary shooters: mesh and evaluate again, the receivers now
       // following the shadows those surfaces cast too.
-      const std::vector<int> secondary = penumbra::SelectSecondaryShooters(
+      const std::vector<penumbra::SecondaryShooter> secondary = penumbra::SelectSecondaryShooters(
         *mesher->GetPreparedScene(), ReflectedPower(evaluator->GetOutput(), scene),
         this->SecondaryShooterFraction, MaximumSecondaryShooters);
       if (!secondary.empty())
@@ -234,9 +235,14 @@ int vtkPenumbraSolver::Execute(
             mesher->AddShooterId(c);
           }
         }
-        for (const int id : secondary)
+        for (const penumbra::SecondaryShooter& entry : secondary)
         {
-          mesher->AddShooterId(id);
+          vtkNew<vtkIdList> receivers;
+          for (const int id : entry.Receivers)
+          {
+            receivers->InsertNextId(id);
+          }
+          mesher->AddShooterId(entry.Shooter, receivers);
         }
         this->SetProgressText("secondary shooters");
         if (!mesher->GetExecutive()->Update() || !evaluator->GetExecutive()->Update() ||

@@ -24,8 +24,6 @@
 #include "penumbraTimer.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -41,8 +39,11 @@ namespace
 /// the computed irradiance by at most this fraction: meshes too coarse for
 /// the light they receive err by more, and unevenly (up to 16% on 3 x 3
 /// grids), where one factor for all receivers would move the error of some
-/// onto the others; the shortfall then counts as escaped.
+/// onto the others; the imbalance then counts as residual.
 constexpr double MaximumConservationCorrection = 0.02;
+/// The Uniform receivers' share of a shot is corrected by at most this
+/// fraction (see Receive); beyond, the imbalance is residual.
+constexpr double MaximumCoarseCorrection = 0.5;
 
 /**
  * Secondary shadows: a fast single shot evaluates a receiver by the exact
@@ -56,6 +57,17 @@ constexpr double SecondaryShadowShare = 0.05;
 /// Largest (shooter triangle, receiving point) pairs that one shot
 /// evaluates exactly for secondary shadows: about half a second on 2 cores.
 constexpr double ExactPairBudget = 2e6;
+/// ... and for the receiver with the largest share alone, this many.
+constexpr double LargestShareBudget = 8.0 * ExactPairBudget;
+/// A fast shooter is shot alone for its secondary shadows only while it
+/// holds at least this share of the unshot power: the few strong secondary
+/// lights of a room (its lit floor and walls), not every surface in turn,
+/// which in a scene of many surfaces would cost more single shots than
+/// the sweeps through the recorded transport they precede.
+constexpr double SingleShotShare = 0.05;
+/// ... and at most this many single shots a run: each costs about what the
+/// first sweep through the recorded transport does for all shooters.
+constexpr int MaximumSingleShots = 8;
 
 /// Scratch memory of one chunk of a shot's parallel loop over points.
 struct ShotWorkspace
@@ -374,14 +386,9 @@ std::vector<int> ProgressiveShooter::Internals::SecondaryShadowReceivers(
     const int i = receivers[r].Id;
     const SurfaceSamples& s = this->Samples.Surfaces[i];
     const double rho = this->SceneCopy.Surfaces[i].Reflectance.Mean();
-    if (rho <= 0.0 || s.Uniform || s.LinearPower ||
-      !this->Exact.ShaftCandidates(shooter, i, candidates) || candidates.empty())
+    if (rho <= 0.0 || s.Uniform || s.LinearPower)
     {
-      continue; // invisible, or nothing between them to cast a shadow
-    }
-    if (!AnyRayBlocked(this->Samples, this->Caster(), shooter, i))
-    {
-      continue; // the occluders in the shaft block none of the test rays
+      continue;
     }
     double received;
     if (irradiance)
@@ -402,7 +409,9 @@ std::vector<int> ProgressiveShooter::Internals::SecondaryShadowReceivers(
     const double added = rho * received;
     const RGB reflected = this->Samples.ReflectedPower(i, this->SceneCopy.Surfaces[i].Emission);
     const double share = added / (reflected.Mean() + added);
-    if (share >= SecondaryShadowShare)
+    // The share first: the shaft query and the rays cost more.
+    if (share >= SecondaryShadowShare && this->Exact.ShaftCandidates(shooter, i, candidates) &&
+      !candidates.empty() && AnyRayBlocked(this->Samples, this->Caster(), shooter, i))
     {
       shares.emplace_back(share, static_cast<int>(r));
     }
@@ -416,7 +425,11 @@ std::vector<int> ProgressiveShooter::Internals::SecondaryShadowReceivers(
   {
     const double pairs = static_cast<double>(triangles) *
       static_cast<double>(this->Samples.EvaluationPoints[receivers[entry.second].Id].size());
-    if (cost + pairs <= ExactPairBudget)
+    // The receiver with the largest share is taken within a larger budget:
+    // finer samples on both sides must not drop the one receiver the shot
+    // lights most back to the fast method's blocky shadows.
+    const double budget = chosen.empty() ? LargestShareBudget : ExactPairBudget;
+    if (cost + pairs <= budget)
     {
       cost += pairs;
       chosen.push_back(entry.second);
@@ -562,9 +575,12 @@ long long ProgressiveShooter::Internals::PointIrradiance(
  * by the backs of surfaces (record.Backs, estimated by rays). A fast
  * shot's irradiance is then first scaled per channel so that the receivers
  * get Power - Backs: it corrects what the fast method's expansions and
- * visibility per node lose or add (not when a receiver is Uniform or on a
- * coarse level, whose own quadrature errs more, nor by more than
- * MaximumConservationCorrection). An exact shot's irradiance is exact at
+ * visibility per node lose or add (by at most MaximumConservationCorrection;
+ * not when a receiver is on a coarse level's lattice), or, when some
+ * receivers are Uniform, whose one value errs more, what those receivers
+ * lose or add (by at most MaximumCoarseCorrection; the others are left as
+ * computed). An
+ * exact shot's irradiance is exact at
  * the samples and its power quadrature exact to third order: it is left as
  * it is, so that a run's result does not depend on the order of its shots.
  * Then Total and Unshot += rho / pi E at every sample, and the shot's
@@ -574,7 +590,6 @@ void ProgressiveShooter::Internals::Receive(const std::vector<Receiver>& receive
   std::vector<RGB>& irradiance, bool closed, ShotRecord& record)
 {
   std::vector<RGB> incident(receivers.size());
-  RGB computed;
   std::vector<RGB> e;
   const auto values = [&](const Receiver& rec) -> std::vector<RGB>& {
     const std::size_t count = this->Samples.EvaluationPoints[rec.Id].size();
@@ -586,40 +601,60 @@ void ProgressiveShooter::Internals::Receive(const std::vector<Receiver>& receive
     }
     return e;
   };
+  // A Uniform receiver (one value, at its centroid, for the whole surface)
+  // errs by more than the fast method, and by more than
+  // MaximumConservationCorrection (a small box face beside the floor that
+  // lights it sees much more of it at its base than at its centre): when
+  // there are such receivers they take the whole imbalance, the others
+  // none. A receiver on a coarse level's lattice (LinearPower) integrates
+  // accurate point values with a cruder quadrature: scaling them to its
+  // total would spread the quadrature's error over them, so such a shot is
+  // not scaled.
+  std::vector<char> uniform(receivers.size(), 0);
+  bool lattice = false;
+  RGB computedResolved, computedUniform;
   for (std::size_t r = 0; r < receivers.size(); ++r)
   {
+    const SurfaceSamples& s = this->Samples.Surfaces[receivers[r].Id];
+    uniform[r] = s.Uniform ? 1 : 0;
+    lattice = lattice || (s.LinearPower && !s.Uniform);
     incident[r] = this->Samples.Integral(receivers[r].Id, values(receivers[r]));
-    computed += incident[r];
+    (uniform[r] ? computedUniform : computedResolved) += incident[r];
   }
-  // Receivers integrated coarsely (a coarse level's lattice, one value per
-  // Uniform surface) err by more than the fast method: scaling every
-  // receiver for their error would spread it.
-  bool resolved = true;
-  for (const Receiver& rec : receivers)
-  {
-    const SurfaceSamples& s = this->Samples.Surfaces[rec.Id];
-    resolved = resolved && !s.Uniform && !s.LinearPower;
-  }
+  const RGB computed = computedResolved + computedUniform;
   RGB scale(1.0, 1.0, 1.0);
+  RGB coarseScale(1.0, 1.0, 1.0);
   for (int c = 0; c < 3; ++c)
   {
     const double delivered = record.Power[c] - record.Backs[c];
-    if (closed && resolved && record.Method == ShotMethod::Fast && computed[c] > 0.0 &&
-      delivered > 0.0 &&
+    if (!closed || record.Method != ShotMethod::Fast || !(delivered > 0.0))
+    {
+      continue;
+    }
+    if (computedUniform[c] > 0.0)
+    {
+      const double factor = (delivered - computedResolved[c]) / computedUniform[c];
+      if (factor >= 1.0 - MaximumCoarseCorrection && factor <= 1.0 + MaximumCoarseCorrection)
+      {
+        coarseScale[c] = factor;
+      }
+    }
+    else if (!lattice && computed[c] > 0.0 &&
       std::abs(delivered / computed[c] - 1.0) <= MaximumConservationCorrection)
     {
       scale[c] = delivered / computed[c];
     }
   }
   record.Scale = scale;
-  if (std::getenv("DBGS")) std::fprintf(stderr, "shot %d method %d closed %d resolved %d computed/power %.6f backs %.3g\n", record.Shooter, (int)record.Method, (int)closed, (int)resolved, computed.R / record.Power.R, record.Backs.R / record.Power.R);
+  record.CoarseScale = coarseScale;
   for (std::size_t r = 0; r < receivers.size(); ++r)
   {
     const Receiver& rec = receivers[r];
     SurfaceSamples& s = this->Samples.Surfaces[rec.Id];
     const RGB rho = this->SceneCopy.Surfaces[rec.Id].Reflectance;
-    EnergyBookkeeping::AddReceived(record, incident[r] * scale, rho);
-    const RGB factor = rho * scale * (1.0 / Pi);
+    const RGB applied = uniform[r] ? coarseScale : scale;
+    EnergyBookkeeping::AddReceived(record, incident[r] * applied, rho);
+    const RGB factor = rho * applied * (1.0 / Pi);
     values(rec);
     for (std::size_t k = 0; k < e.size(); ++k)
     {
@@ -857,6 +892,14 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
   const auto weak = [this](double power) { return this->ChooseMethod(power) == ShotMethod::Fast; };
   SweepTail tail;
   bool swept = false; // once sweeping, the strong secondary lights have been shot
+  // On a coarse level the indirect light is blurred to its lattice anyway:
+  // no receiver there is evaluated exactly (see SecondaryShadowReceivers).
+  bool coarse = false;
+  for (const SurfaceSamples& s : I.Samples.Surfaces)
+  {
+    coarse = coarse || s.LinearPower;
+  }
+  int singles = 0;
   while (!ShootingDone(this->GetTotalUnshotPower().Mean(), target, summary.Shots,
     I.Settings.MaximumShots, summary.Reason))
   {
@@ -870,7 +913,8 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     std::vector<int> members(1, j);
     bool sweep = method == ShotMethod::Fast && I.Settings.ReuseTransport;
     bool secondary = false;
-    if (method == ShotMethod::Fast && !swept)
+    if (method == ShotMethod::Fast && !swept && !coarse && singles < MaximumSingleShots &&
+      I.Samples.UnshotPower[j].Mean() >= SingleShotShare * this->GetTotalUnshotPower().Mean())
     {
       // A shooter whose light casts shadows that matter is shot on its own
       // first, its shadows evaluated exactly (see SecondaryShadowShare).
@@ -882,6 +926,7 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
         I.FindReceivers(probe, std::vector<char>(I.Samples.Surfaces.size(), 0), false, items);
       secondary = !I.SecondaryShadowReceivers(j, receivers, nullptr).empty();
       sweep = sweep && !secondary;
+      singles += secondary ? 1 : 0;
     }
     swept = swept || sweep;
     if (sweep)
@@ -942,16 +987,6 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     tail.RemainingError() < std::max(target, this->GetTotalUnshotPower().Mean()))
   {
     summary.TailPower = tail.Apply(I.Samples, I.Energy);
-  }
-  if (std::getenv("DBGS"))
-  {
-    for (int i = 0; i < 6 && i < this->GetNumberOfSurfaces(); ++i)
-    {
-      const SurfaceSamples& ss = I.Samples.Surfaces[i];
-      double area = 0.0;
-      for (double a : I.Samples.Areas[i]) area += a;
-      std::fprintf(stderr, "surface %d D-mean %.9g Q-mean %.9g\n", i, I.Samples.Integral(i, ss.Total).R / area, IntegrateLinear(ss, I.Samples.Areas[i], ss.Total).R / area);
-    }
   }
   summary.Energy = I.Energy.Current();
   summary.UnshotFraction = reference > 0.0 ? this->GetTotalUnshotPower().Mean() / reference : 0.0;

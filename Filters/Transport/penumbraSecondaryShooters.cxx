@@ -23,6 +23,12 @@ constexpr double DominantShare = 0.5;
 constexpr double SignificantGain = 0.01;
 /// Rays of the shading test between a shooter and a receiver.
 constexpr int ShadingRays = 64;
+/// Receivers with more shaft candidates than this are not meshed for a
+/// secondary shooter: each occluder adds its EV and VE events, and behind
+/// many (a wall seeing a floor past the boxes of a room) the many small
+/// shadows blur into a smooth whole that needs no boundaries, while
+/// tracing them would cost more than all of the direct light's.
+constexpr std::size_t MaximumSecondaryOccluders = 32;
 
 /// A point of `surface`'s plane within half its radius of its centroid,
 /// from 2D Halton coordinates (u, v) in [0, 1), uniform by area: for a
@@ -53,10 +59,10 @@ bool Shaded(const PreparedScene& scene, int shooter, int receiver)
 
 } // namespace
 
-std::vector<int> SelectSecondaryShooters(const PreparedScene& scene,
+std::vector<SecondaryShooter> SelectSecondaryShooters(const PreparedScene& scene,
   const std::vector<double>& reflected, double fraction, int maximum)
 {
-  std::vector<int> chosen;
+  std::vector<SecondaryShooter> chosen;
   const Scene& s = scene.GetScene();
   const OccluderSet& occluders = *scene.GetOccluders();
   const double emitted = s.EmittedPower().Mean();
@@ -85,15 +91,15 @@ std::vector<int> SelectSecondaryShooters(const PreparedScene& scene,
     {
       break;
     }
+    SecondaryShooter shooter;
+    shooter.Shooter = entry.second;
     const int j = entry.second;
     const PreparedPolygon& from = occluders.GetPolygon(j);
-    bool useful = false;
-    for (int i = 0; i < surfaces && !useful; ++i)
+    for (int i = 0; i < surfaces; ++i)
     {
       const PreparedPolygon& to = occluders.GetPolygon(i);
       const double rho = s.Surfaces[i].Reflectance.Mean();
-      if (i == j || !to.Valid || rho <= 0.0 || !occluders.ShaftCandidates(j, i, candidates) ||
-        candidates.empty())
+      if (i == j || !to.Valid || rho <= 0.0)
       {
         continue;
       }
@@ -104,12 +110,17 @@ std::vector<int> SelectSecondaryShooters(const PreparedScene& scene,
       const double received =
         r2 > 0.0 ? entry.first * to.Area * cosines / (r2 * (Pi * r2 + to.Area)) : 0.0;
       const double added = rho * received;
-      useful = added >= SignificantGain * emitted &&
-        added >= DominantShare * (added + reflected[i]) && Shaded(scene, j, i);
+      // The estimate first: the shaft query costs a search of the scene.
+      if (added >= SignificantGain * emitted && added >= DominantShare * (added + reflected[i]) &&
+        occluders.ShaftCandidates(j, i, candidates) && !candidates.empty() &&
+        candidates.size() <= MaximumSecondaryOccluders && Shaded(scene, j, i))
+      {
+        shooter.Receivers.push_back(i);
+      }
     }
-    if (useful)
+    if (!shooter.Receivers.empty())
     {
-      chosen.push_back(j);
+      chosen.push_back(std::move(shooter));
     }
   }
   return chosen;

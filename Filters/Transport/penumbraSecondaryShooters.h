@@ -17,19 +17,30 @@
 namespace penumbra
 {
 
+/// A secondary shooter and the receivers its boundaries are meshed on.
+struct SecondaryShooter
+{
+  int Shooter = -1;
+  std::vector<int> Receivers; ///< ascending surface ids
+};
+
 /**
- * The secondary shooters of `scene` (surface ids, strongest first, at most
- * `maximum`) given each surface's reflected direct power `reflected` (watts,
- * mean of RGB, one per surface): a surface that does not emit, reflects at
- * least `fraction` of the emitted power, and brings at least half the light
- * of some receiver, and at least 1% of the emitted power to its reflected
- * light (by the form factor of two discs about the centroids, against the
- * receiver's own reflected direct power), that occluders shade from it (one
- * of 64 rays between the two blocked). Receivers it hardly
- * lights, or lights without shadows, gain nothing from its boundaries.
+ * The secondary shooters of `scene` (strongest first, at most `maximum`)
+ * given each surface's reflected direct power `reflected` (watts, mean of
+ * RGB, one per surface): a surface that does not emit and reflects at least
+ * `fraction` of the emitted power, with the receivers it matters to: those
+ * whose light it brings at least half of, and at least 1% of the emitted
+ * power to their reflected light (by the form factor of two discs about the
+ * centroids, against the receiver's own reflected direct power), and that
+ * occluders shade from it (one of 64 rays between the two blocked). A
+ * surface with no such receiver is not chosen: receivers it hardly lights,
+ * or lights without shadows, gain nothing from its boundaries, and tracing
+ * them everywhere (a floor's under every box of a room) would cost more
+ * than all the direct light's.
  */
-PENUMBRATRANSPORT_EXPORT std::vector<int> SelectSecondaryShooters(const PreparedScene& scene,
-  const std::vector<double>& reflected, double fraction, int maximum);
+PENUMBRATRANSPORT_EXPORT std::vector<SecondaryShooter> SelectSecondaryShooters(
+  const PreparedScene& scene, const std::vector<double>& reflected, double fraction,
+  int maximum);
 
 } // namespace penumbra
 

@@ -46,6 +46,9 @@ struct ShotRecord
   /// Power - Backs, when none of the shooters' light can leave the scene
   /// and the correction is small (1 otherwise).
   RGB Scale = RGB(1.0, 1.0, 1.0);
+  /// Factor applied instead to the Uniform receivers (one value per
+  /// surface), which then take the whole imbalance (1 when there are none).
+  RGB CoarseScale = RGB(1.0, 1.0, 1.0);
   int GroupSize = 1;  ///< surfaces shot together (GroupWeakShots); Shooter is the strongest
   int Receivers = 0;  ///< receivers that exchange light with the shooter
   /// Of which evaluated exactly for their secondary shadows (a fast shot).

@@ -201,6 +201,8 @@ void ShooterRadiance::BuildGrid()
   nv = std::max(1, std::min(nv, 4096));
   this->GridMin[0] = lo[0];
   this->GridMin[1] = lo[1];
+  this->GridMax[0] = hi[0];
+  this->GridMax[1] = hi[1];
   this->GridSize[0] = nu;
   this->GridSize[1] = nv;
   this->CellSize[0] = w / nu;
@@ -356,6 +358,18 @@ void ShooterRadiance::FindTriangles(const Vec3* vertices, int count, std::vector
     lo[1] = std::min(lo[1], v);
     hi[0] = std::max(hi[0], u);
     hi[1] = std::max(hi[1], v);
+  }
+  if (lo[0] <= this->GridMin[0] && lo[1] <= this->GridMin[1] && hi[0] >= this->GridMax[0] &&
+    hi[1] >= this->GridMax[1])
+  {
+    // The polygon's box holds the whole mesh (an unoccluded shooter, the
+    // common case): every triangle, without visiting the grid.
+    ids.resize(this->Triangles.size());
+    for (std::size_t t = 0; t < ids.size(); ++t)
+    {
+      ids[t] = static_cast<int>(t);
+    }
+    return;
   }
   int range[4];
   this->CellRange(lo[0], lo[1], hi[0], hi[1], range);

@@ -186,6 +186,7 @@ private:
   Vec3 AxisV;
   double Tolerance = 0.0;
   double GridMin[2] = { 0.0, 0.0 };
+  double GridMax[2] = { 0.0, 0.0 }; ///< of the triangles' bounding boxes
   double CellSize[2] = { 1.0, 1.0 };
   int GridSize[2] = { 0, 0 };
   std::vector<int> CellStarts;

@@ -166,3 +166,53 @@ def test_wedge_culling_keeps_every_boundary(seed):
     assert culled_counts["SegmentsGenerated"] <= traced_counts["SegmentsGenerated"]
     assert culled_counts["Triangles"] == traced_counts["Triangles"]
     assert 2 * culled_counts["Wedges"] < traced_counts["Wedges"]
+
+
+def test_a_shooter_restricted_to_receivers_meshes_only_them():
+    """A shooter added with receivers adds its boundaries there and nowhere
+    else: on each surface the lines are those of meshing with that shooter
+    everywhere (on its receivers) or without it (elsewhere)."""
+    from vtkmodules.vtkCommonCore import vtkIdList
+    scene = penumbra.load_scene("cornell")
+    emission = vtk_to_numpy(scene.GetCellData().GetArray("Emission"))
+    lights = [int(c) for c in np.flatnonzero(emission.max(axis=1) > 0)]
+    floor, back = 0, 3  # the Cornell box's floor and back wall (scene order)
+
+    def lines_per_surface(secondary_receivers):
+        mesher = penumbra.vtkPenumbraDiscontinuityMesher()
+        mesher.SetInputData(scene)
+        for light in lights:
+            mesher.AddShooterId(light)
+        if secondary_receivers is not None:
+            ids = vtkIdList()
+            for r in secondary_receivers:
+                ids.InsertNextId(r)
+            mesher.AddShooterId(floor, ids)
+        out = penumbra.run_filter(mesher)
+        lines = out.GetNumberOfLines()
+        surface = vtk_to_numpy(out.GetCellData().GetArray("SurfaceId"))[:lines]
+        order = vtk_to_numpy(out.GetCellData().GetArray("DiscontinuityOrder"))[:lines]
+        shadows = surface[order >= 1]
+        return {int(s): int((shadows == s).sum()) for s in range(scene.GetNumberOfCells())}
+
+    alone = lines_per_surface(None)
+    everywhere = lines_per_surface([])  # an empty list: every receiver
+    restricted = lines_per_surface([back])
+    assert everywhere[back] > alone[back], "the floor casts no boundaries on the back wall"
+    assert restricted[back] == everywhere[back]
+    for surface in alone:
+        if surface != back:
+            assert restricted[surface] == alone[surface], surface
+    assert sum(everywhere.values()) > sum(restricted.values())
+
+
+def test_shooter_receivers_out_of_range_is_an_error():
+    from vtkmodules.vtkCommonCore import vtkIdList
+    source = penumbra.vtkPenumbraSceneSource()
+    mesher = penumbra.vtkPenumbraDiscontinuityMesher()
+    mesher.SetInputConnection(source.GetOutputPort())
+    ids = vtkIdList()
+    ids.InsertNextId(1000)
+    mesher.AddShooterId(0, ids)
+    with pytest.raises(penumbra.PenumbraError, match="receiver id 1000"):
+        penumbra.run_filter(mesher)
