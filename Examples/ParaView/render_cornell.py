@@ -24,17 +24,19 @@ CAMERA = {"position": [0.278, 0.273, -0.800], "focal_point": [0.278, 0.273, 0.0]
           "view_up": [0.0, 1.0, 0.0], "view_angle": 39.3076}
 
 
-def main(vtp, png, size=600):
-    reader = XMLPolyDataReader(FileName=[vtp])
-    reader.UpdatePipeline()
-    radiance = vtk_to_numpy(servermanager.Fetch(reader).GetPointData().GetArray("Radiance"))
+def show_radiance(source, size=600, view=None):
+    """Show the Radiance of `source` (a ParaView proxy of a solution) from the
+    Cornell camera, exposed and unlit, in `view` (default: a new render view
+    of size x size pixels; size None keeps the view's); returns (view, exposure)."""
+    radiance = vtk_to_numpy(servermanager.Fetch(source).GetPointData().GetArray("Radiance"))
     exposure = float(sorted(radiance.max(axis=1))[int(0.99 * (len(radiance) - 1))]) or 1.0
-    display_color = PythonCalculator(Input=reader, ArrayName="DisplayColor")
+    display_color = PythonCalculator(Input=source, ArrayName="DisplayColor")
     # (np is the numpy the Python Calculator evaluates its expression with.)
     display_color.Expression = "np.clip(Radiance / %r, 0.0, 1.0) ** (1.0 / 2.2)" % exposure
 
-    view = CreateView("RenderView")
-    view.ViewSize = [size, size]
+    view = view or CreateView("RenderView")
+    if size:
+        view.ViewSize = [size, size]
     view.OrientationAxesVisibility = 0
     view.UseColorPaletteForBackground = 0
     view.Background = [0.0, 0.0, 0.0]
@@ -47,6 +49,13 @@ def main(vtp, png, size=600):
     display.MapScalars = 0  # the values are colors already
     display.Ambient = 1.0  # unlit: radiance already contains the lighting
     display.Diffuse = 0.0
+    return view, exposure
+
+
+def main(vtp, png, size=600):
+    reader = XMLPolyDataReader(FileName=[vtp])
+    reader.UpdatePipeline()
+    view, exposure = show_radiance(reader, size)
     SaveScreenshot(png, view, ImageResolution=[size, size])
     print("wrote %s (exposure %.4g)" % (png, exposure))
 

@@ -102,3 +102,52 @@ def test_installed_script_in_build_tree(tmp_path):
                             stderr=subprocess.PIPE, universal_newlines=True)
     assert result.returncode == 0, result.stderr
     assert "cornell" in result.stdout
+
+
+def _read_vtp(path):
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    return reader.GetOutput()
+
+
+def test_scene_command_writes_the_validated_scene(tmp_path):
+    out = tmp_path / "box.vtp"
+    result = run_penumbra("scene", os.path.join(SCENE_DIR, "box.obj"), "-o", out)
+    assert result.returncode == 0, result.stderr
+    scene = _read_vtp(out)
+    assert scene.GetNumberOfCells() > 0
+    for name in ("Reflectance", "Emission"):
+        assert scene.GetCellData().GetArray(name).GetNumberOfComponents() == 3
+
+
+def test_set_changes_a_solver_setting(tmp_path):
+    """--set reaches the solver: direct light only gives no shots, and
+    SubdivisionLevel 1 fewer output points than the default 2."""
+    default = tmp_path / "default.vtp"
+    coarse = tmp_path / "coarse.vtp"
+    assert run_penumbra("solve", "occluder", "-o", default, "--quiet",
+                        "--set", "Indirect=off").returncode == 0
+    assert run_penumbra("solve", "occluder", "-o", coarse, "--quiet", "--set", "indirect=off",
+                        "--set", "SubdivisionLevel=1").returncode == 0
+    assert _read_vtp(default).GetFieldData().GetArray("Shots") is None
+    assert _read_vtp(coarse).GetNumberOfPoints() < _read_vtp(default).GetNumberOfPoints()
+
+
+def test_bad_set_is_a_one_line_error(tmp_path):
+    out = tmp_path / "x.vtp"
+    _assert_one_line_error(run_penumbra("solve", "cornell", "-o", out, "--set", "Nonsense=1"),
+                           "Nonsense=1")
+    _assert_one_line_error(run_penumbra("solve", "cornell", "-o", out, "--set",
+                                        "SamplingTolerance=2"), "outside its range")
+    _assert_one_line_error(run_penumbra("solve", "cornell", "-o", out, "--set",
+                                        "Indirect=maybe"), "Indirect")
+
+
+def test_settings_and_scenes_as_json():
+    import json
+    settings = json.loads(run_penumbra("settings", "--json").stdout)
+    solver = {s["name"]: s for s in settings["vtkPenumbraSolver"]}
+    assert solver["UnshotFraction"]["minimum"] is not None and "doc" in solver["UnshotFraction"]
+    scenes = json.loads(run_penumbra("scenes", "--json").stdout)
+    assert "cornell" in [s["name"] for s in scenes]

@@ -35,6 +35,14 @@ def test_install_layout_and_downstream_project(tmp_path):
     out = _run([str(prefix / "bin" / "penumbra"), "--version"], cwd="/", env=env)
     assert out.startswith("penumbra ")
 
+    # The ParaView plugin finds the installed command from its own folder.
+    plugin = prefix / "lib" / "penumbra" / "paraview" / "PenumbraParaView.py"
+    assert plugin.is_file()
+    text = plugin.read_text()
+    relative = text.split('os.path.join(_HERE, "', 1)[1].split('"', 1)[0]
+    assert os.path.samefile(os.path.join(plugin.parent, relative, "penumbra"),
+                            prefix / "bin" / "penumbra")
+
     # A downstream C++ project, configured against the installed package only.
     build = tmp_path / "example-build"
     _run(["cmake", "-S", os.path.join(SOURCE_DIR, "Examples", "Cxx"), "-B", str(build),

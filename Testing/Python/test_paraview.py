@@ -127,3 +127,154 @@ def test_paraview_example_renders_the_cornell_box_from_its_camera(tmp_path, corn
     assert right[1] > 1.3 * right[0] and right[1] > 1.3 * right[2], right
     assert centre.min() > 60, centre
     assert light.min() == 255, light
+
+
+# The plugin (PenumbraParaView.py): pipelines built and solved inside pvbatch.
+PLUGIN = os.path.join(BUILD_DIR, "lib", "penumbra", "paraview", "PenumbraParaView.py")
+PLUGIN_SCRIPT = r'''
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import solve_in_paraview  # the example: the getargspec shim, LoadPlugin, the pipeline
+import numpy as np
+from paraview import servermanager, simple
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+
+plugin, png, scene, reference = sys.argv[2:6]
+simple.LoadPlugin(plugin)
+source = (simple.PenumbraScene(FileName=scene) if scene.endswith((".obj", ".vtp"))
+          else simple.PenumbraScene(Scene=scene))
+solve = simple.PenumbraSolve(Input=source, Threads=2)
+solve.UpdatePipeline()
+data = servermanager.Fetch(solve)
+report = {"points": data.GetNumberOfPoints(), "lines": data.GetNumberOfLines(),
+          "point_arrays": [data.GetPointData().GetArrayName(k)
+                           for k in range(data.GetPointData().GetNumberOfArrays())],
+          "cell_arrays": [data.GetCellData().GetArrayName(k)
+                          for k in range(data.GetCellData().GetNumberOfArrays())]}
+if data.GetNumberOfPoints():
+    radiance = vtk_to_numpy(data.GetPointData().GetArray("Radiance"))
+    report["components"] = radiance.shape[1]
+    report["finite"] = bool(np.isfinite(radiance).all())
+    report["minimum"] = float(radiance.min())
+    if reference != "-":
+        reader = vtkXMLPolyDataReader()
+        reader.SetFileName(reference)
+        reader.Update()
+        expected = vtk_to_numpy(reader.GetOutput().GetPointData().GetArray("Radiance"))
+        report["same_shape"] = expected.shape == radiance.shape
+        if expected.shape == radiance.shape:
+            report["largest_relative_difference"] = float(
+                (np.abs(radiance - expected) / np.maximum(np.abs(expected), 1e-300)).max())
+    lines = data.GetLines().GetNumberOfCells()
+    order = vtk_to_numpy(data.GetCellData().GetArray("DiscontinuityOrder"))[:lines]
+    report["line_orders"] = sorted(set(int(o) for o in order))
+    view, _ = solve_in_paraview.show_radiance(solve, 300)
+    simple.SaveScreenshot(png, view, ImageResolution=[300, 300])
+print("REPORT " + json.dumps(report))
+'''
+
+
+def _plugin_report(tmp_path, scene, reference="-"):
+    script = tmp_path / "plugin.py"
+    script.write_text(PLUGIN_SCRIPT)
+    png = tmp_path / "plugin.png"
+    output = _pvbatch(script, os.path.join(SOURCE_DIR, "Examples", "ParaView"), PLUGIN, png,
+                      scene, reference)
+    line = [l for l in output.splitlines() if l.startswith("REPORT ")]
+    assert line, output
+    import json
+    return json.loads(line[-1][len("REPORT "):]), png, output
+
+
+def test_plugin_solves_the_cornell_box_as_the_command_line_does(tmp_path):
+    reference = tmp_path / "cli.vtp"
+    assert run_penumbra("solve", "cornell", "-o", reference, "--threads", "2",
+                        "--quiet").returncode == 0
+    report, png, output = _plugin_report(tmp_path, "cornell", reference)
+    assert report["components"] == 3 and report["finite"] and report["minimum"] >= 0.0, report
+    assert "SurfaceId" in report["cell_arrays"] and "DiscontinuityOrder" in report["cell_arrays"]
+    assert report["lines"] > 0 and 0 in report["line_orders"], report
+    assert report["same_shape"], report
+    assert report["largest_relative_difference"] <= 1e-9, report
+    pixels = _pixels(png).astype(float)
+    assert pixels.std() > 20, "the screenshot is blank"
+
+
+def test_plugin_solves_a_user_obj_file(tmp_path):
+    obj = os.path.join(SOURCE_DIR, "Testing", "Data", "Scenes", "box.obj")
+    report, _, _ = _plugin_report(tmp_path, obj)
+    assert report["points"] > 0 and report["finite"] and report["minimum"] >= 0.0, report
+
+
+def test_plugin_reports_bad_input_without_output(tmp_path):
+    """A scene without Emission: Penumbra's one-line error in ParaView's
+    messages, an empty output, and pvbatch carries on."""
+    script = tmp_path / "bad.py"
+    script.write_text(r'''
+import sys
+sys.path.insert(0, sys.argv[1])
+import solve_in_paraview  # noqa: F401 (the getargspec shim)
+from paraview import servermanager, simple
+simple.LoadPlugin(sys.argv[2])
+scene = simple.PenumbraScene(Scene="cornell")
+without_emission = simple.PassArrays(Input=scene, CellDataArrays=["Reflectance"])
+solve = simple.PenumbraSolve(Input=without_emission)
+solve.UpdatePipeline()
+print("POINTS %d" % servermanager.Fetch(solve).GetNumberOfPoints())
+print("CARRIED ON")
+''')
+    output = _pvbatch(script, os.path.join(SOURCE_DIR, "Examples", "ParaView"), PLUGIN)
+    assert "CARRIED ON" in output and "POINTS 0" in output, output
+    errors = [l for l in output.splitlines() if "Penumbra Solve:" in l]
+    assert errors and "Emission" in errors[0], output
+
+
+def test_plugin_relays_progress_and_stops_on_abort(tmp_path):
+    """The progress bar moves; Abort stops the solver process and leaves no
+    temporary files."""
+    script = tmp_path / "abort.py"
+    script.write_text(r'''
+import os, subprocess, sys
+sys.path.insert(0, sys.argv[1])
+import solve_in_paraview  # noqa: F401 (the getargspec shim)
+from paraview import servermanager, simple
+simple.LoadPlugin(sys.argv[2])
+scene = simple.PenumbraScene(Scene="cornell")
+scene.UpdatePipeline()
+solve = simple.PenumbraSolve(Input=scene)
+algorithm = solve.GetClientSideObject()
+seen = []
+def on_progress(caller, _event):
+    seen.append(caller.GetProgress())
+    if caller.GetProgress() >= 0.2:
+        caller.SetAbortExecute(1)
+algorithm.AddObserver("ProgressEvent", on_progress)
+solve.UpdatePipeline()
+print("POINTS %d" % servermanager.Fetch(solve).GetNumberOfPoints())
+print("PROGRESS %s" % " ".join("%.3f" % p for p in seen))
+print("LEFT %s" % ",".join(n for n in os.listdir(os.environ["TMPDIR"]) if n.startswith("penumbra-")))
+running = subprocess.run(["pgrep", "-f", "penumbra solve"], stdout=subprocess.PIPE,
+                         universal_newlines=True).stdout.split()
+print("RUNNING %d" % len(running))
+''')
+    folder = tmp_path / "tmp"
+    folder.mkdir()
+    old = os.environ.get("TMPDIR")
+    os.environ["TMPDIR"] = str(folder)
+    try:
+        output = _pvbatch(script, os.path.join(SOURCE_DIR, "Examples", "ParaView"), PLUGIN)
+    finally:
+        if old is None:
+            del os.environ["TMPDIR"]
+        else:
+            os.environ["TMPDIR"] = old
+    progress = [float(v) for v in
+                [l for l in output.splitlines() if l.startswith("PROGRESS")][0].split()[1:]]
+    # (VTK reports 1 when RequestData returns, aborted or not.)
+    during = [p for p in progress if p < 1.0]
+    assert len(during) >= 3 and during == sorted(during) and during[-1] >= 0.2, output
+    assert during[-1] < 0.5 and "POINTS 0" in output, "the solve was not stopped: " + output
+    left = [l for l in output.splitlines() if l.startswith("LEFT")][0]
+    assert left.strip() == "LEFT", output
+    assert "RUNNING 0" in output, output

@@ -2,8 +2,10 @@
 """The `penumbra` command line.
 
     penumbra solve SCENE -o OUT.vtp [--png OUT.png] [--threads N]
-                   [--method discontinuity|standard]
-    penumbra scenes
+                   [--method discontinuity|standard] [--set NAME=VALUE ...]
+    penumbra scene SCENE -o OUT.vtp
+    penumbra scenes [--json]
+    penumbra settings [--markdown | --json]
     penumbra render IN.vtp -o OUT.png [--camera cornell|auto]
 
 SCENE is a built-in scene name (see `penumbra scenes`) or a .vtp/.obj file
@@ -63,11 +65,39 @@ def _fail(message):
     return 2
 
 
-def _command_scenes(_args):
+def _command_scenes(args):
     import penumbra
 
+    if args.json:
+        import json
+        print(json.dumps([{"name": name, "description": description}
+                          for name, description in penumbra.scenes()]))
+        return 0
     for name, description in penumbra.scenes():
         print("%-10s %s" % (name, description))
+    return 0
+
+
+def _write_vtp(polydata, path):
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+
+    writer = vtkXMLPolyDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(polydata)
+    # Inline (not appended) data: Debian 12's expat security update makes
+    # ParaView 5.11 reject large appended sections.
+    writer.SetDataModeToBinary()
+    writer.SetCompressorTypeToZLib()
+    return writer.Write() == 1
+
+
+def _command_scene(args):
+    import penumbra
+
+    scene = penumbra.load_scene(args.scene)
+    if not _write_vtp(scene, args.output):
+        return _fail("could not write %s" % args.output)
+    print("wrote %s (%d polygons)" % (args.output, scene.GetNumberOfCells()))
     return 0
 
 
@@ -76,6 +106,10 @@ def _command_settings(args):
 
     if args.markdown:
         print(settings.markdown())
+        return 0
+    if args.json:
+        import json
+        print(json.dumps(settings.as_json()))
         return 0
     for class_name in settings.FILTERS:
         rows = settings.filter_settings(class_name)
@@ -88,14 +122,22 @@ def _command_settings(args):
 
 def _command_solve(args):
     import penumbra
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
+    from penumbra import settings as filter_settings
 
     start = time.time()
-    bar = ProgressBar("solving", enabled=not args.quiet)
+    bar = ProgressBar("solving", enabled=not args.quiet and not args.progress_lines)
+    last = [-1.0]
+
     def progress(stage, fraction):
+        if args.progress_lines and fraction - last[0] >= 0.005:
+            last[0] = fraction
+            sys.stderr.write("progress %.4f %s\n" % (fraction, stage))
+            sys.stderr.flush()
         bar.update(fraction, stage)
 
     settings = {"unshot_fraction": args.unshot_fraction}
+    solver_class = ("vtkPenumbraStandardRadiositySolver" if args.method == "standard"
+                    else "vtkPenumbraSolver")
     if args.method == "standard":
         if args.direct_only:
             return _fail("--direct-only applies to the discontinuity method only")
@@ -104,16 +146,12 @@ def _command_solve(args):
         return _fail("--element-size applies to --method standard only")
     else:
         settings["indirect"] = not args.direct_only
+    for text in args.set or ():  # last: --set Indirect=off means what it says
+        name, value = filter_settings.parse(solver_class, text)
+        settings[name] = value
     result = penumbra.solve(args.scene, threads=args.threads, progress=progress,
                             method=args.method, **settings)
-    writer = vtkXMLPolyDataWriter()
-    writer.SetFileName(args.output)
-    writer.SetInputData(result)
-    # Inline (not appended) data: Debian 12's expat security update makes
-    # ParaView 5.11 reject large appended sections.
-    writer.SetDataModeToBinary()
-    writer.SetCompressorTypeToZLib()
-    if not writer.Write():
+    if not _write_vtp(result, args.output):
         return _fail("could not write %s" % args.output)
     elapsed = time.time() - start
     print("wrote %s (%d triangles, %d boundary lines) in %.2f s"
@@ -195,15 +233,36 @@ def build_parser():
                        help="stop shooting when the unshot power is below F times the "
                             "emitted power, in %s (default %s)"
                             % (unshot.formatted_range(), unshot.formatted_default()))
+    solve.add_argument("--set", action="append", metavar="NAME=VALUE",
+                       help="any setting of the method's solver filter (vtkPenumbraSolver, or "
+                            "vtkPenumbraStandardRadiositySolver with --method standard), e.g. "
+                            "--set SamplingTolerance=1e-3; repeatable; 'penumbra settings' "
+                            "lists them")
     solve.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    solve.add_argument("--progress-lines", action="store_true",
+                       help="progress for programs: lines 'progress FRACTION STAGE' on "
+                            "standard error instead of the bar")
     solve.set_defaults(handler=_command_solve)
 
+    scene = sub.add_parser("scene", help="write a scene (built-in, .obj or .vtp), validated, "
+                                         "as .vtp",
+                           description="Write SCENE, validated against the data contract, "
+                                       "as a VTK XML polydata file.")
+    scene.add_argument("scene", metavar="SCENE",
+                       help="built-in scene name (see 'penumbra scenes') or a .vtp/.obj file")
+    scene.add_argument("-o", "--output", required=True, metavar="OUT.vtp")
+    scene.set_defaults(handler=_command_scene)
+
     scenes = sub.add_parser("scenes", help="list the built-in scenes")
+    scenes.add_argument("--json", action="store_true", help="as JSON, for programs")
     scenes.set_defaults(handler=_command_scenes)
 
     settings = sub.add_parser("settings", help="every filter setting with its default and range")
-    settings.add_argument("--markdown", action="store_true",
-                          help="with the descriptions, as Documentation/settings.md")
+    output = settings.add_mutually_exclusive_group()
+    output.add_argument("--markdown", action="store_true",
+                        help="with the descriptions, as Documentation/settings.md")
+    output.add_argument("--json", action="store_true",
+                        help="with the descriptions, as JSON, for programs")
     settings.set_defaults(handler=_command_settings)
 
     render = sub.add_parser("render", help="render a .vtp scene or result to PNG")

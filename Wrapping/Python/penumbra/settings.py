@@ -117,3 +117,48 @@ def markdown():
                                                        s.doc.replace("|", "\\|")))
         lines.append("")
     return "\n".join(lines)
+
+
+def parse(class_name, text):
+    """A setting given as text "Name=value" (or "name_in_snake_case=value") for
+    a filter: returns (snake_case name, value of the setting's type), or raises
+    penumbra.PenumbraError naming the setting (unknown name, a value that is
+    not of its type, or out of its range)."""
+    import penumbra
+
+    name, sep, value = text.partition("=")
+    name, value = name.strip(), value.strip()
+    settings = {s.name: s for s in filter_settings(class_name)}
+    snake = {re.sub(r"(?<!^)(?=[A-Z])", "_", key).lower(): key for key in settings}
+    key = name if name in settings else snake.get(name.lower())
+    if not sep or key is None:
+        raise penumbra.PenumbraError(
+            "'%s': give NAME=VALUE with NAME a setting of %s (%s)"
+            % (text, class_name, ", ".join(sorted(settings))))
+    setting = settings[key]
+    try:
+        if isinstance(setting.default, bool):
+            words = {"on": True, "true": True, "1": True, "off": False, "false": False, "0": False}
+            parsed = words[value.lower()]
+        elif isinstance(setting.default, int):
+            parsed = int(value)
+        else:
+            parsed = float(value)
+    except (KeyError, ValueError):
+        raise penumbra.PenumbraError("%s: '%s' is not a %s" % (
+            key, value, type(setting.default).__name__)) from None
+    if setting.minimum is not None and not setting.minimum <= parsed <= setting.maximum:
+        raise penumbra.PenumbraError("%s: %s is outside its range %s"
+                                     % (key, value, setting.formatted_range()))
+    return re.sub(r"(?<!^)(?=[A-Z])", "_", key).lower(), parsed
+
+
+def as_json(class_names=FILTERS):
+    """Every setting of the given filters as JSON-ready dicts (name, default,
+    minimum, maximum, doc), per filter: for clients that cannot import the
+    filters, such as the ParaView plugin."""
+    return {class_name: [{"name": s.name, "default": s.default, "minimum": s.minimum,
+                          "maximum": s.maximum, "doc": s.doc}
+                         for s in filter_settings(class_name)]
+            for class_name in class_names}
+
