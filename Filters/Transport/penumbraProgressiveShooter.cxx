@@ -57,8 +57,10 @@ constexpr double SecondaryShadowShare = 0.05;
 /// Largest (shooter triangle, receiving point) pairs that one shot
 /// evaluates exactly for secondary shadows: about half a second on 2 cores.
 constexpr double ExactPairBudget = 2e6;
-/// ... and for the receiver with the largest share alone, this many.
+/// ... and for the receiver with the largest share alone, this many, when
+/// that share is at least DominatedShare.
 constexpr double LargestShareBudget = 8.0 * ExactPairBudget;
+constexpr double DominatedShare = 0.5;
 /// A fast shooter is shot alone for its secondary shadows only while it
 /// holds at least this share of the unshot power: the few strong secondary
 /// lights of a room (its lit floor and walls), not every surface in turn,
@@ -425,10 +427,12 @@ std::vector<int> ProgressiveShooter::Internals::SecondaryShadowReceivers(
   {
     const double pairs = static_cast<double>(triangles) *
       static_cast<double>(this->Samples.EvaluationPoints[receivers[entry.second].Id].size());
-    // The receiver with the largest share is taken within a larger budget:
-    // finer samples on both sides must not drop the one receiver the shot
-    // lights most back to the fast method's blocky shadows.
-    const double budget = chosen.empty() ? LargestShareBudget : ExactPairBudget;
+    // A receiver whose light comes mostly from this shot is taken within a
+    // larger budget: finer samples on both sides must not drop it back to
+    // the fast method's blocky shadows (where its light is mostly from
+    // elsewhere, those would show much less).
+    const double budget = chosen.empty() && entry.first >= DominatedShare ? LargestShareBudget
+                                                                           : ExactPairBudget;
     if (cost + pairs <= budget)
     {
       cost += pairs;
