@@ -4,6 +4,7 @@
 // receivers' updates. The methods themselves are in the files named in
 // Documentation/design/transport.md.
 #include "penumbraProgressiveShooter.h"
+#include "penumbraProgressiveShooterInternals.h"
 
 #include "penumbraEnergyBookkeeping.h"
 #include "penumbraEscapeRays.h"
@@ -18,7 +19,6 @@
 #include "penumbraReceiverClusters.h"
 #include "penumbraRecordedTransport.h"
 #include "penumbraSampleSet.h"
-#include "penumbraShadowRays.h"
 #include "penumbraShot.h"
 #include "penumbraSweepTail.h"
 #include "penumbraTimer.h"
@@ -45,23 +45,8 @@ constexpr double MaximumConservationCorrection = 0.02;
 /// fraction (see Receive); beyond, the imbalance is residual.
 constexpr double MaximumCoarseCorrection = 0.5;
 
-/**
- * Secondary shadows: a fast single shot evaluates a receiver by the exact
- * method instead when occluders stand between them (AnyRayBlocked) and the shot brings at
- * least this share of the receiver's reflected light (there the fast
- * method's visibility per node of the shooter's hierarchy would show as
- * blocky shadows: a floor lit only by a half-lit panel over a baffle was
- * 127% RMS off), within ExactPairBudget.
- */
-constexpr double SecondaryShadowShare = 0.05;
-/// Largest (shooter triangle, receiving point) pairs that one shot
-/// evaluates exactly for secondary shadows: about half a second on 2 cores.
-constexpr double ExactPairBudget = 2e6;
-/// ... and for the receiver with the largest share alone, this many, when
-/// that share is at least DominatedShare.
-constexpr double LargestShareBudget = 8.0 * ExactPairBudget;
-constexpr double DominatedShare = 0.5;
-/// A fast shooter is shot alone for its secondary shadows only while it
+/// A fast shooter is shot alone for its secondary shadows (see
+/// penumbraSecondaryShadows.cxx) only while it
 /// holds at least this share of the unshot power: the few strong secondary
 /// lights of a room (its lit floor and walls), not every surface in turn,
 /// which in a scene of many surfaces would cost more single shots than
@@ -98,84 +83,6 @@ RGB EvaluateShot(const Shot& shot, const ExactEvaluator& exact, const Vec3& x, c
 }
 
 } // namespace
-
-struct ProgressiveShooter::Internals
-{
-  explicit Internals(const Scene& scene)
-    : Exact(scene)
-    , SceneCopy(scene)
-    , Samples(Exact.GetOccluders(), scene.Surfaces.size())
-    , Energy(scene.EmittedPower())
-  {
-  }
-  /// Shares the prepared scene's occluder set and Embree scene.
-  explicit Internals(const std::shared_ptr<const PreparedScene>& scene)
-    : Exact(scene)
-    , SceneCopy(scene->GetScene())
-    , Prepared(scene)
-    , Samples(Exact.GetOccluders(), SceneCopy.Surfaces.size())
-    , Energy(SceneCopy.EmittedPower())
-  {
-  }
-
-  /// A receiver of a shot, its shaft candidates, and its first work item
-  /// (its evaluation points are items [First, First + their number)).
-  struct Receiver
-  {
-    int Id;
-    std::size_t First;
-    std::vector<int> Candidates;
-  };
-
-  const RayCaster& Caster()
-  {
-    if (!this->Rays)
-    {
-      this->Rays = this->Prepared ? this->Prepared->GetRayCaster()
-                                  : std::make_shared<const RayCaster>(this->SceneCopy);
-    }
-    return *this->Rays;
-  }
-  void EnsureClusters()
-  {
-    if (!this->Clusters.Valid)
-    {
-      this->Clusters.Build(this->Samples, this->Settings.ReceiverClusterSize);
-    }
-  }
-
-  ShotRecord ShootSurfaces(
-    const std::vector<int>& members, ShotMethod method, double reference, bool sweep = false);
-  std::vector<Receiver> FindReceivers(const Shot& shot, const std::vector<char>& isMember,
-    bool sweep, std::size_t& items) const;
-  std::vector<long long> FirstItems(const std::vector<Receiver>& receivers) const;
-  long long SweepIrradiance(const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance);
-  long long ClusterIrradiance(
-    const Shot& shot, const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance);
-  long long PointIrradiance(
-    const Shot& shot, const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance);
-  void Receive(const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance,
-    bool closed, ShotRecord& record);
-  void RecordTransport();
-  void EnsureEnergy();
-  std::vector<int> SecondaryShadowReceivers(
-    int shooter, const std::vector<Receiver>& receivers, const std::vector<RGB>* irradiance);
-  long long ExactReceivers(const std::vector<Receiver>& receivers,
-    const std::vector<int>& which, int shooter, std::vector<RGB>& irradiance);
-
-  ExactEvaluator Exact;
-  Scene SceneCopy;
-  std::shared_ptr<const PreparedScene> Prepared; // null when built from a Scene
-  std::shared_ptr<const RayCaster> Rays;
-  ProgressiveShooterSettings Settings;
-  ParallelFor Loop;
-  ShotProgressCallback ShotProgress;
-  SampleSet Samples;
-  ReceiverClusters Clusters;
-  std::unique_ptr<RecordedTransport> Recorded; ///< null until the first sweep, and when invalidated
-  EscapeRays Escape;
-  EnergyBookkeeping Energy;
-};
 
 /**
  * Shoot the members' unshot radiance (one surface, or a group) at every
@@ -353,124 +260,6 @@ long long ProgressiveShooter::Internals::SweepIrradiance(
   return rays;
 }
 
-/**
- * The receivers (indices into `receivers`) of a fast shot of `shooter` to
- * evaluate exactly for their secondary shadows (SecondaryShadowShare),
- * largest share first within ExactPairBudget. The share of a receiver of
- * reflectance rho: rho P / (R + rho P), P the power the shot brings it (by
- * the fast method's `irradiance`, or without it by the form factor of two
- * discs about the centroids, as a first guess), R its reflected power.
- */
-std::vector<int> ProgressiveShooter::Internals::SecondaryShadowReceivers(
-  int shooter, const std::vector<Receiver>& receivers, const std::vector<RGB>* irradiance)
-{
-  std::vector<int> chosen;
-  const SurfaceSamples& source = this->Samples.Surfaces[shooter];
-  std::size_t triangles = 0;
-  for (const std::array<int, 3>& tri : source.Triangles)
-  {
-    triangles += (source.Unshot[tri[0]].IsZero() && source.Unshot[tri[1]].IsZero() &&
-                   source.Unshot[tri[2]].IsZero())
-      ? 0
-      : 1;
-  }
-  if (triangles == 0)
-  {
-    return chosen;
-  }
-  const PreparedPolygon& from = this->Samples.Polygon(shooter);
-  const double power = this->Samples.UnshotPower[shooter].Mean();
-  std::vector<std::pair<double, int>> shares;
-  std::vector<int> candidates;
-  std::vector<RGB> e;
-  for (std::size_t r = 0; r < receivers.size(); ++r)
-  {
-    const int i = receivers[r].Id;
-    const SurfaceSamples& s = this->Samples.Surfaces[i];
-    const double rho = this->SceneCopy.Surfaces[i].Reflectance.Mean();
-    if (rho <= 0.0 || s.Uniform || s.LinearPower)
-    {
-      continue;
-    }
-    double received;
-    if (irradiance)
-    {
-      const std::size_t count = this->Samples.EvaluationPoints[i].size();
-      e.assign(irradiance->begin() + static_cast<std::ptrdiff_t>(receivers[r].First),
-        irradiance->begin() + static_cast<std::ptrdiff_t>(receivers[r].First + count));
-      received = this->Samples.Integral(i, e).Mean();
-    }
-    else
-    {
-      const PreparedPolygon& to = this->Samples.Polygon(i);
-      const Vec3 d = to.Centroid - from.Centroid;
-      const double r2 = Dot(d, d);
-      const double cosines = std::max(0.0, Dot(from.Normal, d)) * std::max(0.0, -Dot(to.Normal, d));
-      received = r2 > 0.0 ? power * to.Area * cosines / (r2 * (Pi * r2 + to.Area)) : 0.0;
-    }
-    const double added = rho * received;
-    const RGB reflected = this->Samples.ReflectedPower(i, this->SceneCopy.Surfaces[i].Emission);
-    const double share = added / (reflected.Mean() + added);
-    // The share first: the shaft query and the rays cost more.
-    if (share >= SecondaryShadowShare && this->Exact.ShaftCandidates(shooter, i, candidates) &&
-      !candidates.empty() && AnyRayBlocked(this->Samples, this->Caster(), shooter, i))
-    {
-      shares.emplace_back(share, static_cast<int>(r));
-    }
-  }
-  std::sort(shares.begin(), shares.end(),
-    [](const std::pair<double, int>& a, const std::pair<double, int>& b) {
-      return a.first > b.first || (a.first == b.first && a.second < b.second);
-    });
-  double cost = 0.0;
-  for (const auto& entry : shares)
-  {
-    const double pairs = static_cast<double>(triangles) *
-      static_cast<double>(this->Samples.EvaluationPoints[receivers[entry.second].Id].size());
-    // A receiver whose light comes mostly from this shot is taken within a
-    // larger budget: finer samples on both sides must not drop it back to
-    // the fast method's blocky shadows (where its light is mostly from
-    // elsewhere, those would show much less).
-    const double budget = chosen.empty() && entry.first >= DominatedShare ? LargestShareBudget
-                                                                           : ExactPairBudget;
-    if (cost + pairs <= budget)
-    {
-      cost += pairs;
-      chosen.push_back(entry.second);
-    }
-  }
-  std::sort(chosen.begin(), chosen.end());
-  return chosen;
-}
-
-/// Overwrite the irradiance of the receivers `which` (indices into
-/// `receivers`) with the exact shot of `shooter`; returns 0 (no rays).
-long long ProgressiveShooter::Internals::ExactReceivers(const std::vector<Receiver>& receivers,
-  const std::vector<int>& which, int shooter, std::vector<RGB>& irradiance)
-{
-  Shot shot;
-  PrepareShot(this->Samples, shooter, ShotMethod::Exact, this->Settings.OpeningAngle,
-    this->Settings.LeafSize, shot);
-  std::vector<Receiver> subset;
-  std::size_t items = 0;
-  for (const int r : which)
-  {
-    subset.push_back({ receivers[r].Id, items, receivers[r].Candidates });
-    this->Exact.ShaftCandidates(shooter, receivers[r].Id, subset.back().Candidates);
-    items += this->Samples.EvaluationPoints[receivers[r].Id].size();
-  }
-  std::vector<RGB> exact(items);
-  this->PointIrradiance(shot, subset, exact);
-  for (std::size_t k = 0; k < which.size(); ++k)
-  {
-    const std::size_t count = this->Samples.EvaluationPoints[subset[k].Id].size();
-    std::copy(exact.begin() + static_cast<std::ptrdiff_t>(subset[k].First),
-      exact.begin() + static_cast<std::ptrdiff_t>(subset[k].First + count),
-      irradiance.begin() + static_cast<std::ptrdiff_t>(receivers[which[k]].First));
-  }
-  return 0;
-}
-
 /// Start the energy bookkeeping if not started, with the emitters' rays.
 void ProgressiveShooter::Internals::EnsureEnergy()
 {
@@ -583,10 +372,9 @@ long long ProgressiveShooter::Internals::PointIrradiance(
  * not when a receiver is on a coarse level's lattice), or, when some
  * receivers are Uniform, whose one value errs more, what those receivers
  * lose or add (by at most MaximumCoarseCorrection; the others are left as
- * computed). An
- * exact shot's irradiance is exact at
- * the samples and its power quadrature exact to third order: it is left as
- * it is, so that a run's result does not depend on the order of its shots.
+ * computed). An exact shot's irradiance is exact at the samples and its
+ * power quadrature exact to third order: it is left as it is, so that a
+ * run's result does not depend on the order of its shots.
  * Then Total and Unshot += rho / pi E at every sample, and the shot's
  * incident and absorbed power.
  */

@@ -4,6 +4,7 @@
 #include "penumbraMath.h"
 #include "penumbraOccluderSet.h"
 #include "penumbraRayCaster.h"
+#include "penumbraShadowRays.h"
 
 #include <algorithm>
 #include <cmath>
@@ -103,13 +104,7 @@ std::vector<SecondaryShooter> SelectSecondaryShooters(const PreparedScene& scene
       {
         continue;
       }
-      const Vec3 d = to.Centroid - from.Centroid;
-      const double r2 = Dot(d, d);
-      const double cosines =
-        std::max(0.0, Dot(from.Normal, d)) * std::max(0.0, -Dot(to.Normal, d));
-      const double received =
-        r2 > 0.0 ? entry.first * to.Area * cosines / (r2 * (Pi * r2 + to.Area)) : 0.0;
-      const double added = rho * received;
+      const double added = rho * entry.first * DiscTransferFraction(from, to);
       // The estimate first: the shaft query costs a search of the scene.
       if (added >= SignificantGain * emitted && added >= DominantShare * (added + reflected[i]) &&
         occluders.ShaftCandidates(j, i, candidates) && !candidates.empty() &&

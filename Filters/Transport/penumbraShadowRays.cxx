@@ -4,7 +4,9 @@
 #include "penumbraOccluderSet.h"
 #include "penumbraRayCaster.h"
 #include "penumbraSampleSet.h"
+#include "penumbraMath.h"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -18,6 +20,14 @@ namespace
 constexpr int ShadowTestRays = 64;
 
 } // namespace
+
+double DiscTransferFraction(const PreparedPolygon& from, const PreparedPolygon& to)
+{
+  const Vec3 d = to.Centroid - from.Centroid;
+  const double r2 = Dot(d, d);
+  const double cosines = std::max(0.0, Dot(from.Normal, d)) * std::max(0.0, -Dot(to.Normal, d));
+  return r2 > 0.0 ? to.Area * cosines / (r2 * (Pi * r2 + to.Area)) : 0.0;
+}
 
 bool AnyRayBlocked(const SampleSet& samples, const RayCaster& caster, int shooter, int receiver)
 {

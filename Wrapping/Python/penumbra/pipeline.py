@@ -94,12 +94,9 @@ def setting_names(class_name):
     """{snake_case name: filter setting name} of a filter's settings, e.g.
     {"exact_power_fraction": "ExactPowerFraction", ...}: the Python spelling of
     the filters' names."""
-    import re
-
     from penumbra import settings
 
-    return {re.sub(r"(?<!^)(?=[A-Z])", "_", s.name).lower(): s.name
-            for s in settings.filter_settings(class_name)}
+    return {settings.snake_case(s.name): s.name for s in settings.filter_settings(class_name)}
 
 
 def apply_settings(algorithm, class_name, values):

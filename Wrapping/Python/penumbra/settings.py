@@ -119,6 +119,11 @@ def markdown():
     return "\n".join(lines)
 
 
+def snake_case(name):
+    """A filter setting's Python spelling: ExactPowerFraction -> exact_power_fraction."""
+    return re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower()
+
+
 def parse(class_name, text):
     """A setting given as text "Name=value" (or "name_in_snake_case=value") for
     a filter: returns (snake_case name, value of the setting's type), or raises
@@ -129,7 +134,7 @@ def parse(class_name, text):
     name, sep, value = text.partition("=")
     name, value = name.strip(), value.strip()
     settings = {s.name: s for s in filter_settings(class_name)}
-    snake = {re.sub(r"(?<!^)(?=[A-Z])", "_", key).lower(): key for key in settings}
+    snake = {snake_case(key): key for key in settings}
     key = name if name in settings else snake.get(name.lower())
     if not sep or key is None:
         raise penumbra.PenumbraError(
@@ -150,7 +155,7 @@ def parse(class_name, text):
     if setting.minimum is not None and not setting.minimum <= parsed <= setting.maximum:
         raise penumbra.PenumbraError("%s: %s is outside its range %s"
                                      % (key, value, setting.formatted_range()))
-    return re.sub(r"(?<!^)(?=[A-Z])", "_", key).lower(), parsed
+    return snake_case(key), parsed
 
 
 def as_json(class_names=FILTERS):
