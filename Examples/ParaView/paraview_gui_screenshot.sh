@@ -18,7 +18,6 @@ trap 'kill "${paraview_pid:-}" "${xvfb_pid:-}" 2>/dev/null || true; rm -rf "$wor
 cat > "$work/gui.py" <<PYTHON
 import sys
 sys.path.insert(0, "$here")
-import solve_in_paraview  # the getargspec shim
 from paraview import simple
 simple.LoadPlugin("$plugin")
 scene = simple.PenumbraScene(Scene="cornell")

@@ -3,7 +3,7 @@
 
     pvbatch Examples/ParaView/solve_in_paraview.py PLUGIN OUTPUT.png [SCENE]
 
-PLUGIN is PenumbraParaView.py (<prefix>/lib/penumbra/paraview after
+PLUGIN is PenumbraParaView.xml (<prefix>/lib/penumbra/paraview after
 `cmake --install`, or build/lib/penumbra/paraview in the build tree); SCENE a
 built-in scene name (default cornell) or an .obj/.vtp scene file. The same
 pipeline in the GUI: Tools > Manage Plugins > Load New (the plugin), then
@@ -11,16 +11,10 @@ Sources > Penumbra > Penumbra Scene, Filters > Penumbra > Penumbra Solve,
 Apply. Prints the solution's size and writes a picture from the Cornell
 camera (see render_cornell.py).
 """
-import inspect
 import os
 import sys
 
-# ParaView 5.11's Python plugin loader calls inspect.getargspec, which
-# Python 3.11 removed (Debian 12 ships both): give it the modern equivalent.
-if not hasattr(inspect, "getargspec"):
-    inspect.getargspec = inspect.getfullargspec
-
-from paraview import servermanager, simple  # noqa: E402
+from paraview import servermanager, simple
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from render_cornell import show_radiance  # noqa: E402
@@ -45,5 +39,5 @@ def main(plugin, png, scene="cornell", size=600):
 
 if __name__ == "__main__":
     if len(sys.argv) not in (3, 4):
-        sys.exit("usage: pvbatch solve_in_paraview.py PenumbraParaView.py OUTPUT.png [SCENE]")
+        sys.exit("usage: pvbatch solve_in_paraview.py PenumbraParaView.xml OUTPUT.png [SCENE]")
     main(*sys.argv[1:])

@@ -35,13 +35,16 @@ def test_install_layout_and_downstream_project(tmp_path):
     out = _run([str(prefix / "bin" / "penumbra"), "--version"], cwd="/", env=env)
     assert out.startswith("penumbra ")
 
-    # The ParaView plugin finds the installed command from its own folder.
-    plugin = prefix / "lib" / "penumbra" / "paraview" / "PenumbraParaView.py"
+    # The installed ParaView plugin runs the installed command.
+    plugin = prefix / "lib" / "penumbra" / "paraview" / "PenumbraParaView.xml"
     assert plugin.is_file()
-    text = plugin.read_text()
-    relative = text.split('os.path.join(_HERE, "', 1)[1].split('"', 1)[0]
-    assert os.path.samefile(os.path.join(plugin.parent, relative, "penumbra"),
-                            prefix / "bin" / "penumbra")
+    from xml.etree import ElementTree
+    scripts = [p.get("default_values") for p in ElementTree.parse(plugin).iter()
+               if p.get("name") == "Script"]
+    assert len(scripts) == 2
+    for script in scripts:
+        command = script.split("COMMAND = ", 1)[1].splitlines()[0]
+        assert os.path.samefile(eval(command), prefix / "bin" / "penumbra")
 
     # A downstream C++ project, configured against the installed package only.
     build = tmp_path / "example-build"

@@ -129,12 +129,12 @@ def test_paraview_example_renders_the_cornell_box_from_its_camera(tmp_path, corn
     assert light.min() == 255, light
 
 
-# The plugin (PenumbraParaView.py): pipelines built and solved inside pvbatch.
-PLUGIN = os.path.join(BUILD_DIR, "lib", "penumbra", "paraview", "PenumbraParaView.py")
+# The plugin (PenumbraParaView.xml): pipelines built and solved inside pvbatch.
+PLUGIN = os.path.join(BUILD_DIR, "lib", "penumbra", "paraview", "PenumbraParaView.xml")
 PLUGIN_SCRIPT = r'''
 import json, sys
 sys.path.insert(0, sys.argv[1])
-import solve_in_paraview  # the example: the getargspec shim, LoadPlugin, the pipeline
+import solve_in_paraview  # the example: show_radiance
 import numpy as np
 from paraview import servermanager, simple
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -214,7 +214,6 @@ def test_plugin_reports_bad_input_without_output(tmp_path):
     script.write_text(r'''
 import sys
 sys.path.insert(0, sys.argv[1])
-import solve_in_paraview  # noqa: F401 (the getargspec shim)
 from paraview import servermanager, simple
 simple.LoadPlugin(sys.argv[2])
 scene = simple.PenumbraScene(Scene="cornell")
@@ -237,7 +236,6 @@ def test_plugin_relays_progress_and_stops_on_abort(tmp_path):
     script.write_text(r'''
 import os, subprocess, sys
 sys.path.insert(0, sys.argv[1])
-import solve_in_paraview  # noqa: F401 (the getargspec shim)
 from paraview import servermanager, simple
 simple.LoadPlugin(sys.argv[2])
 scene = simple.PenumbraScene(Scene="cornell")
