@@ -275,7 +275,9 @@ ShotRecord StandardRadiosity::Internals::Shoot(int patchId)
     {
       ++record.Samples;
       record.Rays += rays[v];
-      vertex.Total += this->SceneCopy.Surfaces[vertex.Surface].Reflectance * radiance * factors[v];
+      const RGB incident = radiance * factors[v];
+      vertex.IncidentOverPi += incident;
+      vertex.Total += this->SceneCopy.Surfaces[vertex.Surface].Reflectance * incident;
     }
   }
   this->Rays += record.Rays;
@@ -425,13 +427,14 @@ void StandardRadiosity::Internals::Subdivide(const std::vector<char>& changed)
         Vertex& vertex = this->Vertices[created[q]];
         const Surface& s = this->SceneCopy.Surfaces[vertex.Surface];
         const Vec3& n = this->Geometry[vertex.Surface].Normal;
-        RGB total = s.Emission;
+        RGB incident;
         for (const PastShot& shot : this->History)
         {
           const double f = this->FormFactor(vertex.Evaluation, n, vertex.Surface, shot.Patch, rays[q]);
-          total += s.Reflectance * shot.Radiance * f;
+          incident += shot.Radiance * f;
         }
-        vertex.Total = total;
+        vertex.IncidentOverPi = incident;
+        vertex.Total = s.Emission + s.Reflectance * incident;
       }
     });
     for (long long r : rays)
@@ -526,6 +529,7 @@ StandardRadiosityMesh StandardRadiosity::GetMesh() const
   {
     mesh.Points.push_back(v.Position);
     mesh.Radiance.push_back(v.Total);
+    mesh.Irradiance.push_back(v.IncidentOverPi * Pi);
   }
   std::vector<int> ring;
   for (const Element& e : I.Elements)
@@ -551,14 +555,16 @@ StandardRadiosityMesh StandardRadiosity::GetMesh() const
     // interpolant there, so the display has no cracks.
     const int centre = static_cast<int>(mesh.Points.size());
     Vec3 position;
-    RGB value;
+    RGB value, incident;
     for (int q = 0; q < 3; ++q)
     {
       position += I.Vertices[e.Corners[q]].Position;
       value += I.Vertices[e.Corners[q]].Total;
+      incident += I.Vertices[e.Corners[q]].IncidentOverPi;
     }
     mesh.Points.push_back(position / 3.0);
     mesh.Radiance.push_back(value * (1.0 / 3.0));
+    mesh.Irradiance.push_back(incident * (Pi / 3.0));
     for (std::size_t q = 0; q < ring.size(); ++q)
     {
       mesh.Triangles.push_back({ centre, ring[q], ring[(q + 1) % ring.size()] });

@@ -167,6 +167,7 @@ struct StandardRadiosityMesh
 {
   std::vector<Vec3> Points;
   std::vector<RGB> Radiance;                  ///< per point, W sr^-1 m^-2
+  std::vector<RGB> Irradiance;                ///< per point, W m^-2
   std::vector<std::array<int, 3>> Triangles;  ///< counter-clockwise about the front normal
   std::vector<int> TriangleSurface;           ///< scene surface of each triangle
   std::vector<std::array<int, 2>> BoundaryEdges; ///< outline edges of the surfaces

@@ -33,6 +33,7 @@ struct Vertex
   Vec3 Evaluation; ///< where its radiance is computed (see InwardPoint)
   int Surface = -1;
   RGB Total;
+  RGB IncidentOverPi; ///< irradiance / pi gathered so far (black surfaces too)
 };
 
 /// A constant-radiosity receiving element: a triangle of vertex ids.

@@ -47,6 +47,33 @@ struct Surface
   RGB Emission;
 };
 
+/**
+ * The reflectance the solver's sampled values carry on a black channel.
+ * A sampled value is L^e + rho_t E / pi, with rho_t the surface's reflectance
+ * where it is positive and this on black channels, so that the light reaching a
+ * black surface is still sampled, meshed and reconstructed (Irradiance =
+ * pi (value - L^e) / rho_t) while it reflects nothing: the power a shot leaves
+ * to be shot again uses the true reflectance. Small enough that a black
+ * surface's value differs from L^e by less than 1e-6 of its irradiance over pi.
+ */
+constexpr double BlackTrackingReflectance = 1e-6;
+
+/// The reflectance of a surface's sampled values (see BlackTrackingReflectance).
+inline RGB TrackedReflectance(const RGB& reflectance)
+{
+  return RGB(reflectance.R > 0.0 ? reflectance.R : BlackTrackingReflectance,
+    reflectance.G > 0.0 ? reflectance.G : BlackTrackingReflectance,
+    reflectance.B > 0.0 ? reflectance.B : BlackTrackingReflectance);
+}
+
+/// The share of a sampled value's reflected part (value - L^e) that is
+/// reflected radiance: 1 per channel, 0 on black channels.
+inline RGB ReflectedShare(const RGB& reflectance)
+{
+  return RGB(reflectance.R > 0.0 ? 1.0 : 0.0, reflectance.G > 0.0 ? 1.0 : 0.0,
+    reflectance.B > 0.0 ? 1.0 : 0.0);
+}
+
 /// Derived geometry of a planar polygon.
 struct PolygonGeometry
 {

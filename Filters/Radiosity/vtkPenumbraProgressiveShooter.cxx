@@ -93,9 +93,10 @@ void CollectSurfaceSamples(vtkPolyData* samples, vtkDataArray* radiance,
     s.Points.emplace_back(p[0], p[1], p[2]);
     s.Total.push_back(total);
     // The evaluator has shot every emitter: what is left to shoot is the
-    // reflected part of the radiance.
-    s.Unshot.emplace_back(std::max(0.0, total.R - emission.R),
-      std::max(0.0, total.G - emission.G), std::max(0.0, total.B - emission.B));
+    // reflected part of the radiance (none on black channels).
+    const penumbra::RGB share = penumbra::ReflectedShare(scene.Surfaces[surface].Reflectance);
+    s.Unshot.emplace_back(share.R * std::max(0.0, total.R - emission.R),
+      share.G * std::max(0.0, total.G - emission.G), share.B * std::max(0.0, total.B - emission.B));
     global[surface].push_back(id);
     const int k = static_cast<int>(s.Points.size()) - 1;
     map.emplace(id, k);

@@ -340,7 +340,7 @@ penumbra::RGB PointRadiance::operator()(int i, const penumbra::Vec3& x) const
           x, this->Normals[i], i, j, this->Candidates[pair], this->Workspaces.Local());
     irradianceOverPi += this->Scene.Surfaces[j].Emission * f;
   }
-  penumbra::RGB value = receiver.Reflectance * irradianceOverPi;
+  penumbra::RGB value = penumbra::TrackedReflectance(receiver.Reflectance) * irradianceOverPi;
   if (this->IncludeEmission)
   {
     value += receiver.Emission;
@@ -432,12 +432,23 @@ int vtkPenumbraRadianceEvaluator::Execute(
 
   if (this->AdaptiveSampling && samples->GetNumberOfPolys() > 0)
   {
-    return penumbra::SampleAdaptively(this, samples, output, sceneData->GetLength(),
-             [&](int i, const penumbra::Vec3& x) { return evaluatePoint(i, x); })
-      ? 1
-      : 0;
+    if (!penumbra::SampleAdaptively(this, samples, output, sceneData->GetLength(),
+          [&](int i, const penumbra::Vec3& x) { return evaluatePoint(i, x); }))
+    {
+      return 0;
+    }
   }
-  EvaluatePoints(this, samples, surfaceOf, evaluatePoint, output);
+  else
+  {
+    EvaluatePoints(this, samples, surfaceOf, evaluatePoint, output);
+  }
+  // The reconstructor turns the values into Radiance and Irradiance with them.
+  if (output->GetNumberOfPoints() > 0)
+  {
+    output->GetFieldData()->RemoveArray("SurfaceReflectance");
+    output->GetFieldData()->RemoveArray("SurfaceEmission");
+    penumbra::AddSurfaceMaterials(output->GetFieldData(), scene, this->IncludeEmission);
+  }
   return 1;
 }
 

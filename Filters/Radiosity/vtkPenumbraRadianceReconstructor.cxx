@@ -20,7 +20,9 @@
 #include "penumbraReconstruction.h"
 #include "penumbraScene.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -265,15 +267,20 @@ std::string ReconstructSurfaces(const std::vector<int>& ids,
 }
 
 /// The surfaces' reconstructions, in surface order, as the output polydata.
+/// With the surfaces' materials, the values (L^e + rho_t E / pi, see
+/// BlackTrackingReflectance) become Radiance and Irradiance; without them the
+/// values are written as Radiance.
 void AssembleOutput(const std::vector<int>& ids, const std::vector<SurfaceOutput>& results,
-  bool computeErrorEstimate, vtkPolyData* output)
+  bool computeErrorEstimate, const penumbra::SurfaceMaterials* materials, vtkPolyData* output)
 {
   vtkNew<vtkPoints> outPoints;
   outPoints->SetDataTypeToDouble();
   vtkNew<vtkCellArray> outLines, outPolys;
-  vtkNew<vtkDoubleArray> outRadiance, outError;
+  vtkNew<vtkDoubleArray> outRadiance, outError, outIrradiance;
   outRadiance->SetName("Radiance");
   outRadiance->SetNumberOfComponents(3);
+  outIrradiance->SetName("Irradiance");
+  outIrradiance->SetNumberOfComponents(3);
   outError->SetName("RadianceErrorEstimate");
   outError->SetNumberOfComponents(3);
   std::vector<int> lineSurface, lineOrder, lineSource, polySurface;
@@ -281,13 +288,39 @@ void AssembleOutput(const std::vector<int>& ids, const std::vector<SurfaceOutput
   {
     const SurfaceOutput& r = results[s];
     const vtkIdType offset = outPoints->GetNumberOfPoints();
+    penumbra::RGB emission, share(1.0, 1.0, 1.0), toIrradiance;
+    if (materials)
+    {
+      const penumbra::RGB& rho = materials->Reflectance[ids[s]];
+      const penumbra::RGB tracked = penumbra::TrackedReflectance(rho);
+      emission = materials->Emission[ids[s]];
+      share = penumbra::ReflectedShare(rho);
+      toIrradiance = penumbra::RGB(M_PI / tracked.R, M_PI / tracked.G, M_PI / tracked.B);
+    }
     for (std::size_t p = 0; p < r.Points.size(); ++p)
     {
       outPoints->InsertNextPoint(r.Points[p].X, r.Points[p].Y, r.Points[p].Z);
-      outRadiance->InsertNextTuple(&r.Radiance[3 * p]);
+      const double* value = &r.Radiance[3 * p];
+      if (materials)
+      {
+        double radiance[3], irradiance[3];
+        for (int c = 0; c < 3; ++c)
+        {
+          radiance[c] = share[c] > 0.0 ? value[c] : emission[c];
+          irradiance[c] = toIrradiance[c] * std::max(0.0, value[c] - emission[c]);
+        }
+        outRadiance->InsertNextTuple(radiance);
+        outIrradiance->InsertNextTuple(irradiance);
+      }
+      else
+      {
+        outRadiance->InsertNextTuple(value);
+      }
       if (computeErrorEstimate)
       {
-        outError->InsertNextTuple(&r.Error[3 * p]);
+        const double* error = &r.Error[3 * p];
+        // The estimate of a black channel is its irradiance's, scaled by rho_t.
+        outError->InsertNextTuple3(share[0] * error[0], share[1] * error[1], share[2] * error[2]);
       }
     }
     for (std::size_t t = 0; t + 2 < r.Triangles.size(); t += 3)
@@ -314,6 +347,10 @@ void AssembleOutput(const std::vector<int>& ids, const std::vector<SurfaceOutput
   output->SetPolys(outPolys);
   output->GetPointData()->AddArray(outRadiance);
   output->GetPointData()->SetActiveScalars("Radiance");
+  if (materials)
+  {
+    output->GetPointData()->AddArray(outIrradiance);
+  }
   if (computeErrorEstimate)
   {
     output->GetPointData()->AddArray(outError);
@@ -389,7 +426,10 @@ int vtkPenumbraRadianceReconstructor::Execute(
     vtkErrorMacro(<< error);
     return 0;
   }
-  AssembleOutput(ids, results, this->ComputeErrorEstimate, output);
+  penumbra::SurfaceMaterials materials;
+  const bool known = penumbra::GetSurfaceMaterials(input->GetFieldData(), materials) &&
+    (ids.empty() || ids.back() < static_cast<int>(materials.Reflectance.size()));
+  AssembleOutput(ids, results, this->ComputeErrorEstimate, known ? &materials : nullptr, output);
   this->UpdateProgress(1.0);
   return 1;
 }

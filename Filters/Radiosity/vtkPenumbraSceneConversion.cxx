@@ -151,6 +151,47 @@ void AddField(vtkFieldData* fieldData, const char* name, const RGB& value)
   AddField(fieldData, name, rgb, 3);
 }
 
+void AddSurfaceMaterials(vtkFieldData* fieldData, const Scene& scene, bool includeEmission)
+{
+  vtkNew<vtkDoubleArray> reflectance, emission;
+  reflectance->SetName("SurfaceReflectance");
+  emission->SetName("SurfaceEmission");
+  reflectance->SetNumberOfComponents(3);
+  emission->SetNumberOfComponents(3);
+  for (const Surface& s : scene.Surfaces)
+  {
+    reflectance->InsertNextTuple3(s.Reflectance.R, s.Reflectance.G, s.Reflectance.B);
+    const RGB e = includeEmission ? s.Emission : RGB();
+    emission->InsertNextTuple3(e.R, e.G, e.B);
+  }
+  fieldData->AddArray(reflectance);
+  fieldData->AddArray(emission);
+}
+
+bool GetSurfaceMaterials(vtkFieldData* fieldData, SurfaceMaterials& materials)
+{
+  vtkDataArray* reflectance = fieldData ? fieldData->GetArray("SurfaceReflectance") : nullptr;
+  vtkDataArray* emission = fieldData ? fieldData->GetArray("SurfaceEmission") : nullptr;
+  if (!reflectance || !emission || reflectance->GetNumberOfComponents() != 3 ||
+    emission->GetNumberOfComponents() != 3 ||
+    reflectance->GetNumberOfTuples() != emission->GetNumberOfTuples())
+  {
+    return false;
+  }
+  const vtkIdType n = reflectance->GetNumberOfTuples();
+  materials.Reflectance.resize(static_cast<std::size_t>(n));
+  materials.Emission.resize(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    double r[3], e[3];
+    reflectance->GetTuple(i, r);
+    emission->GetTuple(i, e);
+    materials.Reflectance[i] = RGB(r[0], r[1], r[2]);
+    materials.Emission[i] = RGB(e[0], e[1], e[2]);
+  }
+  return true;
+}
+
 void ForEachCell(vtkPolyData* data, const CellVisitor& visit)
 {
   vtkCellArray* kinds[4] = { data->GetVerts(), data->GetLines(), data->GetPolys(),

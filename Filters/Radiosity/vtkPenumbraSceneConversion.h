@@ -46,6 +46,23 @@ void AddField(vtkFieldData* fieldData, const char* name, double value);
 /// Add a one-tuple RGB (3-component double) array to field data.
 void AddField(vtkFieldData* fieldData, const char* name, const RGB& value);
 
+/**
+ * The surfaces' materials as the samples carry them to the reconstructor:
+ * field arrays `SurfaceReflectance` and `SurfaceEmission`, one RGB tuple per
+ * scene surface (emission zero when the values exclude it). From them and a
+ * sampled value V (see BlackTrackingReflectance) the reconstructor writes
+ * Radiance = L^e + ReflectedShare (V - L^e) and Irradiance = pi (V - L^e) / rho_t.
+ */
+struct SurfaceMaterials
+{
+  std::vector<RGB> Reflectance;
+  std::vector<RGB> Emission;
+};
+/// Add the scene's SurfaceMaterials to field data (see SurfaceMaterials).
+void AddSurfaceMaterials(vtkFieldData* fieldData, const Scene& scene, bool includeEmission);
+/// Read SurfaceMaterials back; false when absent or not one RGB per surface.
+bool GetSurfaceMaterials(vtkFieldData* fieldData, SurfaceMaterials& materials);
+
 /// The core's parallel loop run by vtkSMPTools::For (VTK's threads).
 ParallelFor SMPParallelFor();
 

@@ -47,11 +47,16 @@ void WriteMesh(const penumbra::StandardRadiosityMesh& mesh, vtkPolyData* output)
   radiance->SetName("Radiance");
   radiance->SetNumberOfComponents(3);
   radiance->SetNumberOfTuples(static_cast<vtkIdType>(mesh.Points.size()));
+  vtkNew<vtkDoubleArray> irradiance;
+  irradiance->SetName("Irradiance");
+  irradiance->SetNumberOfComponents(3);
+  irradiance->SetNumberOfTuples(static_cast<vtkIdType>(mesh.Points.size()));
   for (std::size_t k = 0; k < mesh.Points.size(); ++k)
   {
     const vtkIdType id = static_cast<vtkIdType>(k);
     points->SetPoint(id, mesh.Points[k].X, mesh.Points[k].Y, mesh.Points[k].Z);
     radiance->SetTuple3(id, mesh.Radiance[k].R, mesh.Radiance[k].G, mesh.Radiance[k].B);
+    irradiance->SetTuple3(id, mesh.Irradiance[k].R, mesh.Irradiance[k].G, mesh.Irradiance[k].B);
   }
   vtkNew<vtkCellArray> lines;
   for (const auto& edge : mesh.BoundaryEdges)
@@ -73,6 +78,7 @@ void WriteMesh(const penumbra::StandardRadiosityMesh& mesh, vtkPolyData* output)
     output, mesh.BoundaryEdgeSurface, boundary, boundary, mesh.TriangleSurface);
   output->GetPointData()->AddArray(radiance);
   output->GetPointData()->SetActiveScalars("Radiance");
+  output->GetPointData()->AddArray(irradiance);
 }
 
 /// The solve's summary as field arrays.

@@ -64,13 +64,12 @@ ShootingEnergy EnergyBookkeeping::InitialEnergy(
     // Reflected radiance received so far (direct light): Total - L^e.
     const Surface& surface = scene.Surfaces[i];
     const RGB power = samples.ReflectedPower(static_cast<int>(i), surface.Emission);
+    // The light it received: its values carry the tracked reflectance, so
+    // black surfaces' absorption is known too.
+    const RGB tracked = TrackedReflectance(surface.Reflectance);
     for (int c = 0; c < 3; ++c)
     {
-      const double rho = surface.Reflectance[c];
-      if (rho > 0.0)
-      {
-        e.PriorAbsorbed[c] += (1.0 - rho) / rho * power[c];
-      }
+      e.PriorAbsorbed[c] += (1.0 - surface.Reflectance[c]) / tracked[c] * power[c];
     }
   }
   // Where each emitter's light went besides the receivers, by its rays.

@@ -446,13 +446,15 @@ void ProgressiveShooter::Internals::Receive(const std::vector<Receiver>& receive
     const RGB rho = this->SceneCopy.Surfaces[rec.Id].Reflectance;
     const RGB applied = uniform[r] ? coarseScale : scale;
     EnergyBookkeeping::AddReceived(record, incident[r] * applied, rho);
-    const RGB factor = rho * applied * (1.0 / Pi);
+    // Black channels record their light in Total and reflect none of it.
+    const RGB factor = TrackedReflectance(rho) * applied * (1.0 / Pi);
+    const RGB share = ReflectedShare(rho);
     values(rec);
     for (std::size_t k = 0; k < e.size(); ++k)
     {
       const RGB dl = factor * e[k];
       s.Total[k] += dl;
-      s.Unshot[k] += dl;
+      s.Unshot[k] += share * dl;
     }
     this->Samples.UpdateUnshotPower(rec.Id);
   }

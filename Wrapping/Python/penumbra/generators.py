@@ -17,7 +17,8 @@ second.
 """
 import numpy as np
 
-__all__ = ["box_room", "closed_cube", "closed_cube_radiance", "half_lit_panel", "scene_from_polygons", "ROOM_CELLS", "ROOM_HEIGHT", "LIGHT_EMISSION"]
+__all__ = ["box_room", "black_room", "closed_cube", "closed_cube_radiance", "half_lit_panel",
+           "scene_from_polygons", "ROOM_CELLS", "ROOM_HEIGHT", "LIGHT_EMISSION"]
 
 #: Number of room surfaces (floor, ceiling, 4 walls): cells 0-5 of a box room.
 ROOM_CELLS = 6
@@ -313,4 +314,37 @@ def half_lit_panel():
         quad([(1.0, 2.0, 1.8), (1.0, 2.0, 2.2), (1.0, 2.4, 2.2), (1.0, 2.4, 1.8)],
              black, (50.0, 50.0, 50.0)),
         quad([(0, 1.5, 0.5), (0, 1.5, 3.5), (1.0, 1.5, 3.5), (1.0, 1.5, 0.5)], black),
+    ])
+
+
+def black_room(luminance=1000.0, width=4.0, depth=4.0, height=3.0, source_side=1.0):
+    """CIE 171:2006 test case 5.3: a room (metres, y up, floor at y = 0, x in
+    [0, width], z in [0, depth]) whose surfaces are all black, lit by a square
+    Lambertian source of side `source_side` in the middle of the ceiling,
+    facing down, of luminance `luminance` (cd m^-2, or radiance W sr^-1 m^-2:
+    the illuminance comes out in lux, or W m^-2). Black surfaces reflect
+    nothing, so the illuminance anywhere is the source's direct light alone,
+    given exactly by Lambert's polygon formula. The ceiling is four
+    rectangles around the source's opening. Cells: 0 floor, 1-4 walls (x = 0,
+    x = width, z = 0, z = depth), 5-8 ceiling, 9 the source."""
+    black = (0.0, 0.0, 0.0)
+    w, d, h = width, depth, height
+    a0, a1 = (w - source_side) / 2.0, (w + source_side) / 2.0
+    b0, b1 = (d - source_side) / 2.0, (d + source_side) / 2.0
+
+    def quad(corners, emission=black):
+        return {"vertices": corners, "reflectance": black, "emission": emission}
+
+    def ceiling(x0, x1, z0, z1, emission=black):  # facing down
+        return quad([(x0, h, z0), (x1, h, z0), (x1, h, z1), (x0, h, z1)], emission)
+
+    return scene_from_polygons([
+        quad([(0, 0, 0), (0, 0, d), (w, 0, d), (w, 0, 0)]),
+        quad([(0, 0, 0), (0, h, 0), (0, h, d), (0, 0, d)]),
+        quad([(w, 0, 0), (w, 0, d), (w, h, d), (w, h, 0)]),
+        quad([(0, 0, 0), (w, 0, 0), (w, h, 0), (0, h, 0)]),
+        quad([(0, 0, d), (0, h, d), (w, h, d), (w, 0, d)]),
+        ceiling(0, w, 0, b0), ceiling(0, w, b1, d), ceiling(0, a0, b0, b1),
+        ceiling(a1, w, b0, b1),
+        ceiling(a0, a1, b0, b1, (luminance,) * 3),
     ])
