@@ -114,70 +114,6 @@ int vtkPenumbraRadianceEvaluator::FillInputPortInformation(int port, vtkInformat
 
 namespace
 {
-/// Piecewise-linear shooter radiance per surface from port 2's triangles.
-std::map<int, penumbra::ShooterRadiance> ShooterFunctions(
-  vtkPolyData* data, int numberOfSurfaces)
-{
-  std::map<int, penumbra::ShooterRadiance> functions;
-  if (!data || data->GetNumberOfPolys() == 0)
-  {
-    return functions;
-  }
-  vtkDataArray* radiance = data->GetPointData()->GetArray("Radiance");
-  vtkDataArray* surfaceIds = data->GetCellData()->GetArray("SurfaceId");
-  if (!radiance || radiance->GetNumberOfComponents() != 3 || !surfaceIds)
-  {
-    throw penumbra::InputError("shooter radiance (port 2) needs a 3-component point array "
-                               "'Radiance' and a cell array 'SurfaceId'");
-  }
-  struct Mesh
-  {
-    std::vector<penumbra::Vec3> Points;
-    std::vector<std::array<int, 3>> Triangles;
-    std::vector<penumbra::RGB> Values;
-    std::map<vtkIdType, int> Local;
-  };
-  std::map<int, Mesh> meshes;
-  penumbra::ForEachCell(data, [&](vtkIdType cellId, int kind, vtkIdType npts, const vtkIdType* pts) {
-    if (kind != 2)
-    {
-      return true;
-    }
-    const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
-    if (npts != 3 || surface < 0 || surface >= numberOfSurfaces)
-    {
-      std::ostringstream os;
-      os << "shooter radiance (port 2) cell " << cellId
-         << (npts != 3 ? " is not a triangle" : " has a SurfaceId that is not a scene cell");
-      throw penumbra::InputError(os.str());
-    }
-    Mesh& mesh = meshes[surface];
-    std::array<int, 3> triangle;
-    for (int k = 0; k < 3; ++k)
-    {
-      auto found = mesh.Local.find(pts[k]);
-      if (found == mesh.Local.end())
-      {
-        double p[3], v[3];
-        data->GetPoint(pts[k], p);
-        radiance->GetTuple(pts[k], v);
-        found = mesh.Local.emplace(pts[k], static_cast<int>(mesh.Points.size())).first;
-        mesh.Points.emplace_back(p[0], p[1], p[2]);
-        mesh.Values.emplace_back(v[0], v[1], v[2]);
-      }
-      triangle[k] = found->second;
-    }
-    mesh.Triangles.push_back(triangle);
-    return true;
-  });
-  for (auto& entry : meshes)
-  {
-    functions.emplace(entry.first,
-      penumbra::ShooterRadiance(std::move(entry.second.Points), std::move(entry.second.Triangles),
-        std::move(entry.second.Values)));
-  }
-  return functions;
-}
 }
 
 void vtkPenumbraRadianceEvaluator::AddShooterId(vtkIdType id)
@@ -417,7 +353,7 @@ int vtkPenumbraRadianceEvaluator::Execute(
     prepared = this->Prepare(scene); // validates the scene
     const int numberOfSurfaces = static_cast<int>(scene.Surfaces.size());
     surfaceOf = SampleSurfaces(samples, numberOfSurfaces);
-    functions = ShooterFunctions(shooterData, numberOfSurfaces);
+    functions = penumbra::RadianceFunctions(shooterData, numberOfSurfaces, "shooter radiance (port 2)");
     shooters = SelectShooters(this->ShooterIds, scene, functions);
   }
   catch (const penumbra::InputError& e)

@@ -10,10 +10,13 @@
 #include "vtkIdTypeArray.h"
 #include "vtkIntArray.h"
 #include "vtkNew.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <exception>
 #include <mutex>
@@ -190,6 +193,77 @@ bool GetSurfaceMaterials(vtkFieldData* fieldData, SurfaceMaterials& materials)
     materials.Emission[i] = RGB(e[0], e[1], e[2]);
   }
   return true;
+}
+
+std::map<int, ShooterRadiance> RadianceFunctions(vtkPolyData* data, int numberOfSurfaces,
+  const std::string& what, const std::vector<RGB>* subtract)
+{
+  std::map<int, ShooterRadiance> functions;
+  if (!data || data->GetNumberOfPolys() == 0)
+  {
+    return functions;
+  }
+  vtkDataArray* radiance = data->GetPointData()->GetArray("Radiance");
+  vtkDataArray* surfaceIds = data->GetCellData()->GetArray("SurfaceId");
+  if (!radiance || radiance->GetNumberOfComponents() != 3 || !surfaceIds)
+  {
+    throw InputError(what + " needs a 3-component point array 'Radiance' and a cell array "
+                         "'SurfaceId'");
+  }
+  struct Mesh
+  {
+    std::vector<Vec3> Points;
+    std::vector<std::array<int, 3>> Triangles;
+    std::vector<RGB> Values;
+    std::map<vtkIdType, int> Local;
+  };
+  std::map<int, Mesh> meshes;
+  ForEachCell(data, [&](vtkIdType cellId, int kind, vtkIdType npts, const vtkIdType* pts) {
+    if (kind != 2)
+    {
+      return true;
+    }
+    const int surface = static_cast<int>(surfaceIds->GetComponent(cellId, 0));
+    if (npts != 3 || surface < 0 || surface >= numberOfSurfaces)
+    {
+      std::ostringstream os;
+      os << what << " cell " << cellId
+         << (npts != 3 ? " is not a triangle" : " has a SurfaceId that is not a scene cell");
+      throw InputError(os.str());
+    }
+    Mesh& mesh = meshes[surface];
+    std::array<int, 3> triangle;
+    for (int k = 0; k < 3; ++k)
+    {
+      auto found = mesh.Local.find(pts[k]);
+      if (found == mesh.Local.end())
+      {
+        double p[3], v[3];
+        data->GetPoint(pts[k], p);
+        radiance->GetTuple(pts[k], v);
+        found = mesh.Local.emplace(pts[k], static_cast<int>(mesh.Points.size())).first;
+        mesh.Points.emplace_back(p[0], p[1], p[2]);
+        RGB value(v[0], v[1], v[2]);
+        if (subtract)
+        {
+          const RGB& less = (*subtract)[surface];
+          value = RGB(std::max(0.0, value.R - less.R), std::max(0.0, value.G - less.G),
+            std::max(0.0, value.B - less.B));
+        }
+        mesh.Values.push_back(value);
+      }
+      triangle[k] = found->second;
+    }
+    mesh.Triangles.push_back(triangle);
+    return true;
+  });
+  for (auto& entry : meshes)
+  {
+    functions.emplace(entry.first,
+      ShooterRadiance(std::move(entry.second.Points), std::move(entry.second.Triangles),
+        std::move(entry.second.Values)));
+  }
+  return functions;
 }
 
 void ForEachCell(vtkPolyData* data, const CellVisitor& visit)

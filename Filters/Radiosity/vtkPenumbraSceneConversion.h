@@ -9,10 +9,12 @@
 
 #include "penumbraProgressiveShooter.h" // for ParallelFor
 #include "penumbraScene.h"
+#include "penumbraShooterRadiance.h"
 
 #include "vtkType.h" // for vtkIdType
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -62,6 +64,14 @@ struct SurfaceMaterials
 void AddSurfaceMaterials(vtkFieldData* fieldData, const Scene& scene, bool includeEmission);
 /// Read SurfaceMaterials back; false when absent or not one RGB per surface.
 bool GetSurfaceMaterials(vtkFieldData* fieldData, SurfaceMaterials& materials);
+
+/**
+ * Piecewise-linear radiance per surface from `data`'s triangles (cell data
+ * `SurfaceId`, point data `Radiance`), less `subtract[surface]` (clamped at
+ * zero) when given. Throws InputError naming `what` and the offending cell.
+ */
+std::map<int, ShooterRadiance> RadianceFunctions(vtkPolyData* data, int numberOfSurfaces,
+  const std::string& what, const std::vector<RGB>* subtract = nullptr);
 
 /// The core's parallel loop run by vtkSMPTools::For (VTK's threads).
 ParallelFor SMPParallelFor();

@@ -22,6 +22,7 @@ from .vtkPenumbraFilters import (  # noqa: F401
     vtkPenumbraOBJReader,
     vtkPenumbraSceneSource,
     vtkPenumbraSceneValidator,
+    vtkPenumbraSensorEvaluator,
     vtkPenumbraSolver,
     vtkPenumbraProgressiveShooter,
     vtkPenumbraRadianceEvaluator,

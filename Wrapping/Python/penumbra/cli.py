@@ -3,6 +3,7 @@
 
     penumbra solve SCENE -o OUT.vtp [--png OUT.png] [--threads N]
                    [--method discontinuity|standard] [--set NAME=VALUE ...]
+                   [--sensors POINTS.csv --sensors-out VALUES.csv]
     penumbra scene SCENE -o OUT.vtp
     penumbra scenes [--json]
     penumbra settings [--markdown | --json]
@@ -135,6 +136,12 @@ def _command_solve(args):
             sys.stderr.flush()
         bar.update(fraction, stage)
 
+    if (args.sensors is None) != (args.sensors_out is None):
+        return _fail("--sensors and --sensors-out go together")
+    sensors = None
+    if args.sensors is not None:
+        from . import sensors as sensor_files
+        sensors = sensor_files.read_csv(args.sensors)  # bad files fail before the solve
     settings = {"unshot_fraction": args.unshot_fraction}
     solver_class = ("vtkPenumbraStandardRadiositySolver" if args.method == "standard"
                     else "vtkPenumbraSolver")
@@ -156,6 +163,11 @@ def _command_solve(args):
     elapsed = time.time() - start
     print("wrote %s (%d triangles, %d boundary lines) in %.2f s"
           % (args.output, result.GetNumberOfPolys(), result.GetNumberOfLines(), elapsed))
+    if sensors is not None:
+        from . import sensors as sensor_files
+        irradiance = sensor_files.evaluate(result, args.scene, *sensors)
+        sensor_files.write_csv(args.sensors_out, sensors[0], sensors[1], irradiance)
+        print("wrote %s (irradiance at %d sensors)" % (args.sensors_out, len(irradiance)))
     shots = result.GetFieldData().GetArray("Shots")
     if shots is not None:
         print("%d shots, unshot power %.2g of the emitted power"
@@ -238,6 +250,13 @@ def build_parser():
                             "vtkPenumbraStandardRadiositySolver with --method standard), e.g. "
                             "--set SamplingTolerance=1e-3; repeatable; 'penumbra settings' "
                             "lists them")
+    solve.add_argument("--sensors", metavar="POINTS.csv",
+                       help="sensor points: a CSV file with a header line and columns "
+                            "x,y,z,nx,ny,nz (anywhere in the scene, facing any way)")
+    solve.add_argument("--sensors-out", metavar="VALUES.csv",
+                       help="with --sensors: their irradiance (columns x,y,z,nx,ny,nz,"
+                            "irradiance_r,irradiance_g,irradiance_b), direct light exact, "
+                            "indirect light from the solution")
     solve.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     solve.add_argument("--progress-lines", action="store_true",
                        help="progress for programs: lines 'progress FRACTION STAGE' on "
