@@ -65,6 +65,20 @@ def test_python_compose_filters_example(tmp_path):
     assert reader.GetOutput().GetPointData().GetArray("Radiance") is not None
 
 
+def test_work_plane_example(tmp_path):
+    """The lighting example: 400 sensors, a CSV with their illuminance and a map."""
+    script = os.path.join(SOURCE_DIR, "Examples", "Python", "work_plane_illuminance.py")
+    png, table = tmp_path / "plane.png", tmp_path / "plane.csv"
+    result = subprocess.run([sys.executable, script, str(png), str(table)],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            universal_newlines=True, timeout=300)
+    assert result.returncode == 0, result.stdout
+    lines = table.read_text().splitlines()
+    assert lines[0].endswith("irradiance_r,irradiance_g,irradiance_b") and len(lines) == 401
+    lux = [float(line.split(",")[6]) for line in lines[1:]]
+    assert min(lux) > 0.0 and png.stat().st_size > 0
+
+
 def test_readme_solve_snippet_runs(tmp_path):
     readme = open(os.path.join(SOURCE_DIR, "README.md")).read()
     blocks = [b.split("```", 1)[0] for b in readme.split("```python\n")[1:]]

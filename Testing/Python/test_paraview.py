@@ -194,6 +194,7 @@ def test_plugin_solves_the_cornell_box_as_the_command_line_does(tmp_path):
     report, png, output = _plugin_report(tmp_path, "cornell", reference)
     assert report["components"] == 3 and report["finite"] and report["minimum"] >= 0.0, report
     assert "SurfaceId" in report["cell_arrays"] and "DiscontinuityOrder" in report["cell_arrays"]
+    assert "Irradiance" in report["point_arrays"], report
     assert report["lines"] > 0 and 0 in report["line_orders"], report
     assert report["same_shape"], report
     assert report["largest_relative_difference"] <= 1e-9, report
