@@ -112,10 +112,6 @@ int vtkPenumbraRadianceEvaluator::FillInputPortInformation(int port, vtkInformat
   return 1;
 }
 
-namespace
-{
-}
-
 void vtkPenumbraRadianceEvaluator::AddShooterId(vtkIdType id)
 {
   this->ShooterIds.push_back(id);

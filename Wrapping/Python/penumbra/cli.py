@@ -138,10 +138,12 @@ def _command_solve(args):
 
     if (args.sensors is None) != (args.sensors_out is None):
         return _fail("--sensors and --sensors-out go together")
+    from . import sensors as sensor_files
     sensors = None
+    scene = args.scene
     if args.sensors is not None:
-        from . import sensors as sensor_files
         sensors = sensor_files.read_csv(args.sensors)  # bad files fail before the solve
+        scene = penumbra.load_scene(args.scene)  # read once, for the solve and the sensors
     settings = {"unshot_fraction": args.unshot_fraction}
     solver_class = ("vtkPenumbraStandardRadiositySolver" if args.method == "standard"
                     else "vtkPenumbraSolver")
@@ -156,7 +158,7 @@ def _command_solve(args):
     for text in args.set or ():  # last: --set Indirect=off means what it says
         name, value = filter_settings.parse(solver_class, text)
         settings[name] = value
-    result = penumbra.solve(args.scene, threads=args.threads, progress=progress,
+    result = penumbra.solve(scene, threads=args.threads, progress=progress,
                             method=args.method, **settings)
     if not _write_vtp(result, args.output):
         return _fail("could not write %s" % args.output)
@@ -164,8 +166,7 @@ def _command_solve(args):
     print("wrote %s (%d triangles, %d boundary lines) in %.2f s"
           % (args.output, result.GetNumberOfPolys(), result.GetNumberOfLines(), elapsed))
     if sensors is not None:
-        from . import sensors as sensor_files
-        irradiance = sensor_files.evaluate(result, args.scene, *sensors)
+        irradiance = sensor_files.evaluate(result, scene, *sensors)
         sensor_files.write_csv(args.sensors_out, sensors[0], sensors[1], irradiance)
         print("wrote %s (irradiance at %d sensors)" % (args.sensors_out, len(irradiance)))
     shots = result.GetFieldData().GetArray("Shots")
