@@ -39,15 +39,7 @@ for arg in "$@"; do
   esac
 done
 
-# Debian's python3 makes venvs only with python3-venv (ensurepip).
-if ! /usr/bin/python3 -c "import ensurepip" 2>/dev/null; then
-  if [ "$(id -u)" -eq 0 ]; then
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-venv
-  else
-    sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-      python3-venv
-  fi
-fi
+source "$here/ensure_python_venv.sh"
 if [ ! -x "$venv/bin/python" ]; then
   echo "creating venv $venv"
   mkdir -p "$(dirname "$venv")"

@@ -16,15 +16,7 @@ PYRADIANCE_VERSION=1.3.1
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 venv="${1:-$repo/build/_deps/radiance-venv}"
-# Debian's python3 makes venvs only with python3-venv (ensurepip).
-if ! /usr/bin/python3 -c "import ensurepip" 2>/dev/null; then
-  if [ "$(id -u)" -eq 0 ]; then
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends python3-venv
-  else
-    sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-      python3-venv
-  fi
-fi
+source "$here/ensure_python_venv.sh"
 if [ ! -x "$venv/bin/python" ]; then
   /usr/bin/python3 -m venv "$venv"
 fi
