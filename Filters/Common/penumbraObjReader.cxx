@@ -2,12 +2,14 @@
 #include "penumbraObjReader.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <system_error>
 #include <vector>
 
@@ -45,6 +47,9 @@ public:
     , Name(name)
   {
   }
+
+  /// The first physical line of the current logical line.
+  long long GetLine() const { return this->Line; }
 
   [[noreturn]] void Fail(const std::string& what) const
   {
@@ -308,10 +313,41 @@ bool IsIgnoredObjStatement(const std::string& key)
   return false;
 }
 
+// A material name as compared when the exact name is not defined: lower case,
+// outer spaces trimmed, inner runs of spaces as one.
+std::string LooseName(const std::string& name)
+{
+  std::string out;
+  for (char c : name)
+  {
+    const bool space = c == ' ' || c == '\t';
+    if (space && (out.empty() || out.back() == ' '))
+    {
+      continue;
+    }
+    out += space ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  while (!out.empty() && out.back() == ' ')
+  {
+    out.pop_back();
+  }
+  return out;
+}
+
 } // namespace
 
-Scene ParseObjScene(std::istream& obj, const std::string& objName, const ObjMaterialOpener& openMtl)
+Scene ParseObjScene(std::istream& obj, const std::string& objName, const ObjMaterialOpener& openMtl,
+  const ObjReadOptions& options, std::vector<std::string>* warnings)
 {
+  const auto warn = [warnings](const std::string& line) {
+    if (warnings)
+    {
+      warnings->push_back(line);
+    }
+  };
+  std::map<std::string, std::size_t> undefinedUses; // material name -> faces
+  std::map<std::string, std::string> looseMatches;  // used name -> defined name
+  std::string undefined;                            // the current material, if undefined
   if (!obj)
   {
     throw InputError("cannot read OBJ '" + objName + "'");
@@ -359,6 +395,10 @@ Scene ParseObjScene(std::istream& obj, const std::string& objName, const ObjMate
         s.Vertices.push_back(vertices[ParseFaceVertex(reader, t[k], vertices.size())]);
       }
       scene.Surfaces.push_back(std::move(s));
+      if (!undefined.empty())
+      {
+        ++undefinedUses[undefined];
+      }
     }
     else if (key == "mtllib")
     {
@@ -379,7 +419,14 @@ Scene ParseObjScene(std::istream& obj, const std::string& objName, const ObjMate
         std::unique_ptr<std::istream> in = openMtl ? openMtl(name) : nullptr;
         if (!in || !*in)
         {
-          reader.Fail("cannot open material library " + Quote(name));
+          if (options.Strict)
+          {
+            reader.Fail("cannot open material library " + Quote(name));
+          }
+          warn(objName + ":" + std::to_string(reader.GetLine()) +
+            ": cannot open material library " + Quote(name) +
+            ": the faces using its materials get the default material");
+          continue;
         }
         ParseMtl(*in, name, materials);
       }
@@ -390,22 +437,57 @@ Scene ParseObjScene(std::istream& obj, const std::string& objName, const ObjMate
       {
         reader.Fail("usemtl without a material name");
       }
-      const auto found = materials.find(JoinFrom(t, 1));
-      if (found == materials.end())
+      const std::string name = JoinFrom(t, 1);
+      auto found = materials.find(name);
+      undefined.clear();
+      if (found == materials.end() && !options.Strict)
       {
-        reader.Fail("unknown material " + Quote(JoinFrom(t, 1)));
+        // Exporters and hand edits disagree on case and spacing.
+        const std::string loose = LooseName(name);
+        found = std::find_if(materials.begin(), materials.end(),
+          [&loose](const auto& m) { return LooseName(m.first) == loose; });
+        if (found != materials.end())
+        {
+          looseMatches.emplace(name, found->first);
+        }
       }
-      current = found->second;
+      if (found != materials.end())
+      {
+        current = found->second;
+      }
+      else if (options.Strict)
+      {
+        reader.Fail("unknown material " + Quote(name));
+      }
+      else
+      {
+        current = Material();
+        undefined = name;
+      }
     }
     else if (!IsIgnoredObjStatement(key))
     {
       reader.Fail("unknown statement " + Quote(key));
     }
   }
+  for (const auto& match : looseMatches)
+  {
+    warn(objName + ": material " + Quote(match.first) + " is not defined; used " +
+      Quote(match.second) + ", which differs only in case or spacing");
+  }
+  for (const auto& use : undefinedUses)
+  {
+    std::ostringstream os;
+    os << objName << ": " << use.second << (use.second == 1 ? " face uses" : " faces use")
+       << " material " << Quote(use.first) << ", which no material library defines: given the "
+       << "default material (reflectance " << ObjDefaultReflectance << ", no emission)";
+    warn(os.str());
+  }
   return scene;
 }
 
-Scene ReadObjScene(const std::string& objPath)
+Scene ReadObjScene(
+  const std::string& objPath, const ObjReadOptions& options, std::vector<std::string>* warnings)
 {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -434,7 +516,7 @@ Scene ReadObjScene(const std::string& objPath)
     }
     return stream && *stream ? std::move(stream) : nullptr;
   };
-  return ParseObjScene(in, objPath, open);
+  return ParseObjScene(in, objPath, open, options, warnings);
 }
 
 } // namespace penumbra

@@ -22,6 +22,12 @@
  *   before any usemtl get that same default material. When a name is defined
  *   twice, the last definition wins. Values are not clamped: a Kd of 1 is
  *   reported by ValidateScene, not silently changed.
+ * - Lenient by default (ObjReadOptions::Strict off), because real exports
+ *   carry such flaws: a material library that cannot be opened and a
+ *   `usemtl` naming a material no library defines are warnings, and those
+ *   faces get the default material; a name that differs from a defined one
+ *   only in case or spacing uses that material, with a warning. In strict
+ *   mode both are errors.
  *
  * Indices are resolved when the face is read, against the vertices defined
  * so far (as the OBJ specification intends). Errors throw InputError with
@@ -42,6 +48,7 @@
 #include <istream>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace penumbra
 {
@@ -55,13 +62,24 @@ constexpr std::size_t ObjMaxLineLength = std::size_t(1) << 20;
 /// if it cannot be opened.
 using ObjMaterialOpener = std::function<std::unique_ptr<std::istream>(const std::string& name)>;
 
-/// Read an OBJ file and the MTL files it names (relative to its folder).
-PENUMBRACOMMON_EXPORT Scene ReadObjScene(const std::string& objPath);
+/// How forgiving the reader is.
+struct ObjReadOptions
+{
+  /// Missing material libraries and undefined materials are errors, not
+  /// warnings. [false]
+  bool Strict = false;
+};
 
-/// Parse OBJ text from a stream; `objName` is used in error messages and
+/// Read an OBJ file and the MTL files it names (relative to its folder);
+/// warnings (one line each, naming file and line) are appended to `warnings`.
+PENUMBRACOMMON_EXPORT Scene ReadObjScene(const std::string& objPath,
+  const ObjReadOptions& options = ObjReadOptions(), std::vector<std::string>* warnings = nullptr);
+
+/// Parse OBJ text from a stream; `objName` is used in messages and
 /// `openMtl` resolves material libraries (e.g. from strings in tests).
-PENUMBRACOMMON_EXPORT Scene ParseObjScene(
-  std::istream& obj, const std::string& objName, const ObjMaterialOpener& openMtl);
+PENUMBRACOMMON_EXPORT Scene ParseObjScene(std::istream& obj, const std::string& objName,
+  const ObjMaterialOpener& openMtl, const ObjReadOptions& options = ObjReadOptions(),
+  std::vector<std::string>* warnings = nullptr);
 
 } // namespace penumbra
 

@@ -282,11 +282,13 @@ void CheckColor(std::size_t cell, const char* name, const RGB& c, bool isReflect
 
 } // namespace
 
-void ValidateScene(const Scene& scene, const ValidationTolerances& tolerances)
+void ValidateScene(const Scene& scene, const ValidationTolerances& tolerances,
+  const std::vector<std::size_t>* cellNumbers)
 {
-  for (std::size_t cell = 0; cell < scene.Surfaces.size(); ++cell)
+  for (std::size_t surface = 0; surface < scene.Surfaces.size(); ++surface)
   {
-    const Surface& s = scene.Surfaces[cell];
+    const std::size_t cell = cellNumbers ? cellNumbers->at(surface) : surface;
+    const Surface& s = scene.Surfaces[surface];
     const std::vector<Vec3>& v = s.Vertices;
     const std::size_t n = v.size();
     if (n < 3)

@@ -126,10 +126,13 @@ struct ValidationTolerances
  * coordinates or material values, repeated or nearly coincident consecutive
  * vertices, zero area or a sliver narrower than the degeneracy tolerance,
  * non-planar vertices, self-intersecting outlines, reflectance outside [0, 1),
- * or negative emission.
+ * or negative emission. When `cellNumbers` is given (e.g. RepairScene's
+ * source cells), messages name cell cellNumbers[i] for surface i, so that
+ * they point into the file the user has.
  */
-PENUMBRACOMMON_EXPORT void ValidateScene(
-  const Scene& scene, const ValidationTolerances& tolerances = ValidationTolerances());
+PENUMBRACOMMON_EXPORT void ValidateScene(const Scene& scene,
+  const ValidationTolerances& tolerances = ValidationTolerances(),
+  const std::vector<std::size_t>* cellNumbers = nullptr);
 
 } // namespace penumbra
 

@@ -26,15 +26,23 @@ int vtkPenumbraOBJReader::Execute(
     vtkErrorMacro(<< "FileName is not set");
     return 0;
   }
+  this->Warnings.clear();
   try
   {
-    penumbra::SceneToPolyData(penumbra::ReadObjScene(this->FileName), output);
+    penumbra::ObjReadOptions options;
+    options.Strict = this->Strict;
+    penumbra::SceneToPolyData(
+      penumbra::ReadObjScene(this->FileName, options, &this->Warnings), output);
   }
   catch (const penumbra::InputError& e)
   {
     output->Initialize();
     vtkErrorMacro(<< e.what());
     return 0;
+  }
+  for (const std::string& w : this->Warnings)
+  {
+    vtkWarningMacro(<< w);
   }
   return 1;
 }
@@ -43,4 +51,6 @@ void vtkPenumbraOBJReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << this->FileName << "\n";
+  os << indent << "Strict: " << (this->Strict ? "On" : "Off") << "\n";
+  os << indent << "Warnings: " << this->Warnings.size() << "\n";
 }

@@ -8,7 +8,10 @@
  * files named by `mtllib`) gives the cell arrays `Reflectance` (from `Kd`) and
  * `Emission` (from `Ke`, zero if absent). Texture coordinates, normals, groups
  * and smoothing groups are ignored. A malformed file is an error that names the
- * file and line; the output is then empty.
+ * file and line; the output is then empty. A material library that cannot be
+ * opened and a material no library defines are warnings (those faces get the
+ * default grey), unless Strict is on; GetWarning() lists them for programs.
+ * Geometry is repaired and validated downstream (vtkPenumbraSceneRepair).
  *
  * @sa vtkPenumbraSceneSource vtkPenumbraSceneValidator
  */
@@ -19,6 +22,7 @@
 #include "vtkPenumbraAlgorithm.h"
 
 #include <string> // for std::string
+#include <vector> // for std::vector
 
 class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraOBJReader : public vtkPenumbraAlgorithm
 {
@@ -36,6 +40,25 @@ public:
   vtkGetCharFromStdStringMacro(FileName);
   ///@}
 
+  ///@{
+  /**
+   * Missing material libraries and undefined materials are errors, not
+   * warnings. Default off.
+   */
+  vtkSetMacro(Strict, bool);
+  vtkGetMacro(Strict, bool);
+  vtkBooleanMacro(Strict, bool);
+  ///@}
+
+  /**
+   * The warnings of the last run, one line each ("file:line: what").
+   */
+  int GetNumberOfWarnings() const { return static_cast<int>(this->Warnings.size()); }
+  const char* GetWarning(int i) const
+  {
+    return i >= 0 && i < this->GetNumberOfWarnings() ? this->Warnings[i].c_str() : nullptr;
+  }
+
 protected:
   vtkPenumbraOBJReader();
   ~vtkPenumbraOBJReader() override = default;
@@ -43,6 +66,8 @@ protected:
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   std::string FileName;
+  bool Strict = false;
+  std::vector<std::string> Warnings;
 
 private:
   vtkPenumbraOBJReader(const vtkPenumbraOBJReader&) = delete;

@@ -26,8 +26,13 @@
 #include "vtkPenumbraRadianceReconstructor.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkDoubleArray.h"
+#include "vtkStringArray.h"
 
 #include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -197,9 +202,18 @@ int vtkPenumbraSolver::Execute(
   }
 
   // Stage by stage, so that an error names its stage.
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](Clock::time_point since) {
+    return std::chrono::duration<double>(Clock::now() - since).count();
+  };
+  const Clock::time_point solveStart = Clock::now();
+  std::vector<double> stageSeconds(stages.size(), 0.0);
+  double secondarySeconds = 0.0;
   for (std::size_t k = 0; k < stages.size(); ++k)
   {
+    const Clock::time_point stageStart = Clock::now();
     const int ok = stages[k].Filter->GetExecutive()->Update();
+    stageSeconds[k] = seconds(stageStart);
     if (this->GetAbortExecute())
     {
       return 1;
@@ -245,8 +259,11 @@ int vtkPenumbraSolver::Execute(
           mesher->AddShooterId(entry.Shooter, receivers);
         }
         this->SetProgressText("secondary shooters");
-        if (!mesher->GetExecutive()->Update() || !evaluator->GetExecutive()->Update() ||
-          !observers[0].Error.empty() || !observers[1].Error.empty())
+        const Clock::time_point secondaryStart = Clock::now();
+        const bool secondaryOk =
+          mesher->GetExecutive()->Update() && evaluator->GetExecutive()->Update();
+        secondarySeconds = seconds(secondaryStart);
+        if (!secondaryOk || !observers[0].Error.empty() || !observers[1].Error.empty())
         {
           vtkErrorMacro(<< "secondary shooters: "
                         << (observers[0].Error.empty() ? observers[1].Error : observers[0].Error));
@@ -265,6 +282,37 @@ int vtkPenumbraSolver::Execute(
     // Keep the shooter's report (shots, unshot fraction, energy) with the result.
     output->GetFieldData()->PassData(shooter->GetOutput()->GetFieldData());
   }
+  // The solve's record, for `penumbra info` and anyone auditing a result.
+  const auto addSeconds = [output](const std::string& name, double value) {
+    vtkNew<vtkDoubleArray> array;
+    array->SetName(name.c_str());
+    array->InsertNextValue(value);
+    output->GetFieldData()->AddArray(array);
+  };
+  for (std::size_t k = 0; k < stages.size(); ++k)
+  {
+    std::string name = stages[k].Name;
+    name[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(name[0])));
+    addSeconds(name + "Seconds", stageSeconds[k]);
+  }
+  if (this->Indirect)
+  {
+    addSeconds("SecondaryShootersSeconds", secondarySeconds);
+  }
+  addSeconds("SolveSeconds", seconds(solveStart));
+  std::ostringstream settings;
+  settings << "Indirect=" << (this->Indirect ? 1 : 0) << " UnshotFraction=" << this->UnshotFraction
+           << " ExactPowerFraction=" << this->ExactPowerFraction
+           << " MaximumIndirectSamples=" << this->MaximumIndirectSamples
+           << " ReuseTransport=" << (this->ReuseTransport ? 1 : 0)
+           << " SamplingTolerance=" << this->SamplingTolerance
+           << " MaximumSamples=" << this->MaximumSamples << " MinimumAngle=" << this->MinimumAngle
+           << " SubdivisionLevel=" << this->SubdivisionLevel
+           << " SecondaryShooterFraction=" << this->SecondaryShooterFraction;
+  vtkNew<vtkStringArray> record;
+  record->SetName("SolverSettings");
+  record->InsertNextValue(settings.str());
+  output->GetFieldData()->AddArray(record);
   this->SetProgressText(nullptr);
   return 1;
 }

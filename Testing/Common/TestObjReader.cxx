@@ -21,18 +21,25 @@ namespace
 
 using Files = std::map<std::string, std::string>;
 
-Scene Parse(const std::string& obj, const Files& mtls = Files())
+// Strict unless told: the error cases below are strict mode's messages.
+Scene Parse(const std::string& obj, const Files& mtls = Files(), bool strict = true,
+  std::vector<std::string>* warnings = nullptr)
 {
   std::istringstream in(obj);
-  return ParseObjScene(in, "t.obj", [&mtls](const std::string& name) {
-    const auto found = mtls.find(name);
-    std::unique_ptr<std::istream> stream;
-    if (found != mtls.end())
-    {
-      stream = std::make_unique<std::istringstream>(found->second);
-    }
-    return stream;
-  });
+  ObjReadOptions options;
+  options.Strict = strict;
+  return ParseObjScene(
+    in, "t.obj",
+    [&mtls](const std::string& name) {
+      const auto found = mtls.find(name);
+      std::unique_ptr<std::istream> stream;
+      if (found != mtls.end())
+      {
+        stream = std::make_unique<std::istringstream>(found->second);
+      }
+      return stream;
+    },
+    options, warnings);
 }
 
 bool Equal(const RGB& a, double r, double g, double b)
@@ -87,12 +94,21 @@ PENUMBRA_TEST(TestFiles)
   PENUMBRA_EXPECT_THROW(
     ReadObjScene(missing), InputError, "cannot open OBJ file '" + missing + "': no such file");
   PENUMBRA_EXPECT_THROW(ReadObjScene(dir.string()), InputError, "it is a directory");
+  ObjReadOptions strict;
+  strict.Strict = true;
   Write(dir / "nomtl.obj", "# no library\n\nmtllib gone.mtl\n");
-  PENUMBRA_EXPECT_THROW(ReadObjScene((dir / "nomtl.obj").string()), InputError,
+  PENUMBRA_EXPECT_THROW(ReadObjScene((dir / "nomtl.obj").string(), strict), InputError,
     "nomtl.obj:3: cannot open material library 'gone.mtl'");
   Write(dir / "dirmtl.obj", "mtllib scene\n");
-  PENUMBRA_EXPECT_THROW(ReadObjScene((dir / "dirmtl.obj").string()), InputError,
+  PENUMBRA_EXPECT_THROW(ReadObjScene((dir / "dirmtl.obj").string(), strict), InputError,
     "dirmtl.obj:1: cannot open material library 'scene'");
+  // Without strict mode a missing library is a warning naming file and line.
+  std::vector<std::string> warnings;
+  const Scene lenient = ReadObjScene((dir / "nomtl.obj").string(), ObjReadOptions(), &warnings);
+  PENUMBRA_EXPECT(lenient.Surfaces.empty());
+  PENUMBRA_EXPECT(warnings.size() == 1 &&
+    warnings[0].find("nomtl.obj:3: cannot open material library 'gone.mtl'") !=
+      std::string::npos);
   std::error_code ec;
   fs::remove_all(dir, ec);
 }
@@ -265,6 +281,43 @@ PENUMBRA_TEST(TestErrors)
 
 // Every prefix of a valid file (a truncated download) and random byte
 // corruptions are either parsed or rejected with InputError.
+// Real exports name materials that are not defined, or defined with other
+// case or spacing: without strict mode they solve, with one warning per name.
+PENUMBRA_TEST(TestLenientMaterials)
+{
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  const Files mtls = { { "m.mtl", "newmtl Wall White\nKd 0.7\nnewmtl lamp\nKe 3\n" } };
+  std::vector<std::string> warnings;
+  const Scene s = Parse("mtllib m.mtl\nmtllib gone.mtl\n" + tri +
+      "usemtl wall  white\nf 1 2 3\nusemtl chrome\nf 1 2 3\nf 3 2 1\nusemtl lamp\nf 1 2 3\n",
+    mtls, false, &warnings);
+  PENUMBRA_EXPECT(s.Surfaces.size() == 4);
+  if (s.Surfaces.size() == 4)
+  {
+    PENUMBRA_EXPECT(Equal(s.Surfaces[0].Reflectance, 0.7, 0.7, 0.7));
+    PENUMBRA_EXPECT(Equal(s.Surfaces[1].Reflectance, ObjDefaultReflectance,
+      ObjDefaultReflectance, ObjDefaultReflectance));
+    PENUMBRA_EXPECT(s.Surfaces[2].Emission.IsZero());
+    PENUMBRA_EXPECT(Equal(s.Surfaces[3].Emission, 3, 3, 3));
+  }
+  const auto has = [&warnings](const std::string& fragment) {
+    int count = 0;
+    for (const std::string& w : warnings)
+    {
+      count += w.find(fragment) != std::string::npos;
+    }
+    return count == 1;
+  };
+  PENUMBRA_EXPECT(warnings.size() == 3);
+  PENUMBRA_EXPECT(has("t.obj:2: cannot open material library 'gone.mtl'"));
+  PENUMBRA_EXPECT(has("material 'wall white' is not defined; used 'Wall White'"));
+  PENUMBRA_EXPECT(has("2 faces use material 'chrome', which no material library defines"));
+  // Strict mode keeps the errors.
+  PENUMBRA_EXPECT_THROW(
+    Parse("mtllib m.mtl\n" + tri + "usemtl wall white\nf 1 2 3\n", mtls), InputError,
+    "t.obj:5: unknown material 'wall white'");
+}
+
 PENUMBRA_TEST(TestTruncationAndCorruption)
 {
   const Files mtls = { { "m.mtl", "newmtl a\nKd 0.5 0.25 0.125\nKe 1 2 3\n" } };

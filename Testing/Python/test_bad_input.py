@@ -121,8 +121,14 @@ def test_malformed_obj_files_give_file_and_line(tmp_path):
     for name, (content, fragment) in cases.items():
         path = tmp_path / name
         path.write_text(content)
+        # An undefined material is an error in strict mode only (a warning otherwise).
         with pytest.raises(penumbra.PenumbraError, match=fragment):
-            penumbra.load_scene(str(path))
+            penumbra.load_scene(str(path), strict=True)
+        if name != "material.obj":
+            with pytest.raises(penumbra.PenumbraError, match=fragment):
+                penumbra.load_scene(str(path))
+    with pytest.warns(penumbra.PenumbraWarning, match="material 'nowhere', which no material"):
+        penumbra.load_scene(str(tmp_path / "material.obj"))
 
 
 coordinate = st.floats(min_value=-10, max_value=10, allow_nan=False, allow_infinity=False)

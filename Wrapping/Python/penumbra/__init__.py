@@ -20,6 +20,7 @@ from .vtkPenumbraFilters import (  # noqa: F401
     vtkPenumbraAlgorithm,
     vtkPenumbraDiscontinuityMesher,
     vtkPenumbraOBJReader,
+    vtkPenumbraSceneRepair,
     vtkPenumbraSceneSource,
     vtkPenumbraSceneValidator,
     vtkPenumbraSensorEvaluator,
@@ -48,6 +49,16 @@ class PenumbraError(RuntimeError):
     """Bad input or settings; the message names the offending cell or setting."""
 
 
+class PenumbraWarning(UserWarning):
+    """Input that was repaired, or a scene that will come out black or odd.
+
+    Issued through Python's `warnings` module, one line each (e.g. "12
+    non-planar polygons triangulated into 24 triangles (largest distance from
+    the plane 0.0017)"); `warnings.simplefilter("error", PenumbraWarning)`
+    turns them into errors.
+    """
+
+
 def scenes():
     """The built-in scenes as a list of (name, description) pairs."""
     source = vtkPenumbraSceneSource
@@ -55,13 +66,15 @@ def scenes():
             for i in range(source.GetNumberOfScenes())]
 
 
-def run_filter(algorithm, context=None):
+def run_filter(algorithm, context=None, warnings=None):
     """Update `algorithm`; on failure raise PenumbraError with VTK's first error.
 
     VTK reports errors through ErrorEvent, the output window and its logger
     rather than exceptions. While the algorithm runs, all three are captured
     (nothing reaches the terminal) and the first error becomes the exception's
-    message, prefixed with `context` (e.g. a file name) when given.
+    message, prefixed with `context` (e.g. a file name) when given. The
+    algorithm's own warnings are appended to the list `warnings` when given
+    (and dropped otherwise).
     """
     from vtkmodules.vtkCommonCore import (vtkCommand, vtkLogger, vtkOutputWindow,
                                           vtkStringOutputWindow)
@@ -77,11 +90,25 @@ def run_filter(algorithm, context=None):
     window = vtkStringOutputWindow()
     vtkOutputWindow.SetInstance(window)
     vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+    warned = []
+
+    def on_warning(_caller, _event, message=None):
+        # VTK's "Warning: In file, line N\nvtkClass (0x...): " header is not the message.
+        import re
+        text = re.sub(r"^\s*Warning: In [^\n]*, line \d+\s*\S+ \(0x[0-9a-fA-F]+\): ", "",
+                      str(message or ""))
+        warned.append(" ".join(text.split()))
+
+    on_warning.CallDataType = vtkmodules.vtkCommonCore.VTK_STRING
     tag = algorithm.AddObserver(vtkCommand.ErrorEvent, on_error)
+    warning_tag = algorithm.AddObserver(vtkCommand.WarningEvent, on_warning)
     try:
         algorithm.Update()
     finally:
         algorithm.RemoveObserver(tag)
+        algorithm.RemoveObserver(warning_tag)
+    if warnings is not None:
+        warnings.extend(w for w in warned if w)
         vtkOutputWindow.SetInstance(previous_window)
         vtkLogger.SetStderrVerbosity(previous_verbosity)
     # The output window holds errors of helper objects (e.g. the XML parser,
@@ -119,11 +146,18 @@ def _check_vtp_counts(path):
                                 % (path, name, text.strip(), size))
 
 
-def load_scene(scene):
+def load_scene(scene, strict=False):
     """A validated scene vtkPolyData from a built-in name, a .vtp or an .obj path.
 
-    Raises PenumbraError naming the offending cell, array or line.
+    Imported scenes are repaired where that is safe (vtkPenumbraSceneRepair:
+    near-duplicate vertices welded, non-planar polygons triangulated, zero-area
+    and duplicate polygons dropped; OBJ materials that are missing get the
+    default grey), one PenumbraWarning per kind of repair; strict=True repairs
+    nothing and rejects such input. Scenes that will come out black (no
+    emitter, emitters facing away or lighting backs) are warned about in both
+    modes. Raises PenumbraError naming the offending cell, array or line.
     """
+    import warnings as python_warnings
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
     names = [name for name, _ in scenes()]
@@ -135,6 +169,7 @@ def load_scene(scene):
             raise PenumbraError("scene file not found: %s" % scene)
         reader = vtkPenumbraOBJReader()
         reader.SetFileName(scene)
+        reader.SetStrict(bool(strict))
     elif scene.lower().endswith(".vtp"):
         if not os.path.isfile(scene):
             raise PenumbraError("scene file not found: %s" % scene)
@@ -145,8 +180,31 @@ def load_scene(scene):
         raise PenumbraError(
             "unknown scene '%s': give a built-in name (%s) or a .vtp/.obj file"
             % (scene, ", ".join(names)))
+    found = []
     # The OBJ reader names file and line itself; XML errors need the file name.
-    run_filter(reader, context=scene if scene.lower().endswith(".vtp") else None)
-    validator = vtkPenumbraSceneValidator()
-    validator.SetInputConnection(reader.GetOutputPort())
-    return run_filter(validator)
+    run_filter(reader, context=scene if scene.lower().endswith(".vtp") else None,
+               warnings=found)
+    repair = vtkPenumbraSceneRepair()
+    repair.SetStrict(bool(strict))
+    repair.SetInputConnection(reader.GetOutputPort())
+    context = None if scene in names else scene
+    result = run_filter(repair, context=context, warnings=found)
+    for message in found:
+        text = message if context is None or message.startswith(context) else (
+            "%s: %s" % (context, message))
+        python_warnings.warn(text, PenumbraWarning, stacklevel=2)
+    return result
+
+
+def repair_scene(polydata, strict=False):
+    """A scene vtkPolyData repaired and validated as load_scene does for files."""
+    import warnings as python_warnings
+
+    repair = vtkPenumbraSceneRepair()
+    repair.SetStrict(bool(strict))
+    repair.SetInputData(polydata)
+    found = []
+    result = run_filter(repair, warnings=found)
+    for message in found:
+        python_warnings.warn(message, PenumbraWarning, stacklevel=2)
+    return result

@@ -7,11 +7,13 @@
     penumbra scene SCENE -o OUT.vtp
     penumbra scenes [--json]
     penumbra settings [--markdown | --json]
-    penumbra render IN.vtp -o OUT.png [--camera cornell|auto]
+    penumbra info OUT.vtp
+    penumbra render IN.vtp -o OUT.png [--camera auto|cornell|X,Y,Z:FX,FY,FZ[:UX,UY,UZ]]
 
 SCENE is a built-in scene name (see `penumbra scenes`) or a .vtp/.obj file
-following Penumbra's data contract. Exit status 0 on success; otherwise a
-one-line message on standard error and a non-zero status.
+following Penumbra's data contract. Exit status 0 on success, 2 for usage
+errors, 1 for bad input or a failed solve, with a one-line message on
+standard error; repaired input gives one warning line per kind of repair.
 """
 import argparse
 import os
@@ -61,9 +63,32 @@ class ProgressBar:
                 self.stream.flush()
 
 
-def _fail(message):
+USAGE_ERROR = 2
+INPUT_ERROR = 1
+
+
+def _fail(message, status=INPUT_ERROR):
     sys.stderr.write("penumbra: error: %s\n" % " ".join(str(message).split()))
-    return 2
+    return status
+
+
+def _show_warnings():
+    """Print PenumbraWarnings as one line each on standard error, each once."""
+    import warnings
+    from penumbra import PenumbraWarning
+
+    shown = set()
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = " ".join(str(message).split())
+        if not issubclass(category, PenumbraWarning):
+            text = "%s: %s" % (category.__name__, text)
+        if text not in shown:
+            shown.add(text)
+            sys.stderr.write("penumbra: warning: %s\n" % text)
+
+    warnings.showwarning = show
+    warnings.simplefilter("always", PenumbraWarning)
 
 
 def _command_scenes(args):
@@ -95,7 +120,7 @@ def _write_vtp(polydata, path):
 def _command_scene(args):
     import penumbra
 
-    scene = penumbra.load_scene(args.scene)
+    scene = penumbra.load_scene(args.scene, strict=args.strict)
     if not _write_vtp(scene, args.output):
         return _fail("could not write %s" % args.output)
     print("wrote %s (%d polygons)" % (args.output, scene.GetNumberOfCells()))
@@ -137,29 +162,35 @@ def _command_solve(args):
         bar.update(fraction, stage)
 
     if (args.sensors is None) != (args.sensors_out is None):
-        return _fail("--sensors and --sensors-out go together")
+        return _fail("--sensors and --sensors-out go together", USAGE_ERROR)
     from . import sensors as sensor_files
     sensors = None
     scene = args.scene
     if args.sensors is not None:
         sensors = sensor_files.read_csv(args.sensors)  # bad files fail before the solve
-        scene = penumbra.load_scene(args.scene)  # read once, for the solve and the sensors
+        # Read once, for the solve and the sensors.
+        scene = penumbra.load_scene(args.scene, strict=args.strict)
     settings = {"unshot_fraction": args.unshot_fraction}
     solver_class = ("vtkPenumbraStandardRadiositySolver" if args.method == "standard"
                     else "vtkPenumbraSolver")
     if args.method == "standard":
-        if args.direct_only:
-            return _fail("--direct-only applies to the discontinuity method only")
+        for given, option in ((args.direct_only, "--direct-only"),
+                              (args.quality, "--quality"), (args.tolerance, "--tolerance")):
+            if given:
+                return _fail("%s applies to the discontinuity method only" % option,
+                             USAGE_ERROR)
         settings["element_size"] = args.element_size
     elif args.element_size is not None:
-        return _fail("--element-size applies to --method standard only")
+        return _fail("--element-size applies to --method standard only", USAGE_ERROR)
     else:
         settings["indirect"] = not args.direct_only
+        settings["sampling_tolerance"] = args.tolerance
     for text in args.set or ():  # last: --set Indirect=off means what it says
         name, value = filter_settings.parse(solver_class, text)
         settings[name] = value
     result = penumbra.solve(scene, threads=args.threads, progress=progress,
-                            method=args.method, **settings)
+                            method=args.method, strict=args.strict, quality=args.quality,
+                            **settings)
     if not _write_vtp(result, args.output):
         return _fail("could not write %s" % args.output)
     elapsed = time.time() - start
@@ -169,10 +200,9 @@ def _command_solve(args):
         irradiance = sensor_files.evaluate(result, scene, *sensors)
         sensor_files.write_csv(args.sensors_out, sensors[0], sensors[1], irradiance)
         print("wrote %s (irradiance at %d sensors)" % (args.sensors_out, len(irradiance)))
-    shots = result.GetFieldData().GetArray("Shots")
-    if shots is not None:
-        print("%d shots, unshot power %.2g of the emitted power"
-              % (shots.GetValue(0), result.GetFieldData().GetArray("UnshotFraction").GetValue(0)))
+    from .info import summary_lines
+    for line in summary_lines(result):
+        print(line)
     if args.png:
         from .rendering import render_png
         camera = "cornell" if args.scene == "cornell" else "auto"
@@ -181,13 +211,30 @@ def _command_solve(args):
     return 0
 
 
-def _command_render(args):
-    from .rendering import render_png
+def _command_info(args):
+    from .info import read_result, report_lines
 
     if not os.path.isfile(args.input):
         return _fail("file not found: %s" % args.input)
+    for line in report_lines(read_result(args.input)):
+        print(line)
+    return 0
+
+
+def _command_render(args):
+    from .rendering import parse_camera, render_png
+
+    try:
+        parse_camera(args.camera)
+    except ValueError as error:
+        return _fail("--camera: %s" % error, USAGE_ERROR)
+    if args.fov is not None and not 1.0 <= args.fov <= 179.0:
+        return _fail("--fov must be in [1, 179] degrees, got %g" % args.fov, USAGE_ERROR)
+    if not os.path.isfile(args.input):
+        return _fail("file not found: %s" % args.input)
     render_png(args.input, args.output, camera=args.camera, size=tuple(args.size),
-               exposure=args.exposure)
+               exposure=args.exposure, fov=args.fov)
+    print("wrote %s" % args.output)
     return 0
 
 
@@ -207,6 +254,11 @@ def _in_range(setting):
                                              % (setting.minimum, setting.maximum, text))
         return value
     return convert
+
+
+# The presets' measured cost and accuracy (Benchmarks/compare_cornell.py --quality;
+# figures in Documentation/benchmarks.md).
+QUALITY_MEASURED = "draft ?, normal ?, high ?"
 
 
 def build_parser():
@@ -246,6 +298,22 @@ def build_parser():
                        help="stop shooting when the unshot power is below F times the "
                             "emitted power, in %s (default %s)"
                             % (unshot.formatted_range(), unshot.formatted_default()))
+    from penumbra.settings import QUALITY_PRESETS
+    tolerance = filter_settings.find("vtkPenumbraSolver", "SamplingTolerance")
+    presets = "; ".join("%s: %s" % (name, ", ".join("%s=%g" % kv for kv in values.items())
+                                    or "the defaults")
+                        for name, values in QUALITY_PRESETS.items())
+    solve.add_argument("--quality", choices=tuple(QUALITY_PRESETS), default=None,
+                       help="a preset trading time for accuracy (%s). On the Cornell box "
+                            "(2 cores): %s" % (presets, QUALITY_MEASURED))
+    solve.add_argument("--tolerance", type=_in_range(tolerance), default=None, metavar="T",
+                       help="the adaptive sampling tolerance, relative to each surface's "
+                            "light (SamplingTolerance), in %s (default %s); smaller is more "
+                            "accurate and slower"
+                            % (tolerance.formatted_range(), tolerance.formatted_default()))
+    solve.add_argument("--strict", action="store_true",
+                       help="repair nothing: reject non-planar, degenerate and duplicate "
+                            "polygons and undefined OBJ materials instead of fixing them")
     solve.add_argument("--set", action="append", metavar="NAME=VALUE",
                        help="any setting of the method's solver filter (vtkPenumbraSolver, or "
                             "vtkPenumbraStandardRadiositySolver with --method standard), e.g. "
@@ -271,7 +339,16 @@ def build_parser():
     scene.add_argument("scene", metavar="SCENE",
                        help="built-in scene name (see 'penumbra scenes') or a .vtp/.obj file")
     scene.add_argument("-o", "--output", required=True, metavar="OUT.vtp")
+    scene.add_argument("--strict", action="store_true",
+                       help="repair nothing: reject what would be repaired")
     scene.set_defaults(handler=_command_scene)
+
+    info = sub.add_parser("info", help="print the record of a solved .vtp",
+                          description="Print what a solve recorded in its result: surfaces, "
+                                      "samples, triangles, shots, energy balance, estimated "
+                                      "error, settings and time per stage.")
+    info.add_argument("input", metavar="OUT.vtp")
+    info.set_defaults(handler=_command_info)
 
     scenes = sub.add_parser("scenes", help="list the built-in scenes")
     scenes.add_argument("--json", action="store_true", help="as JSON, for programs")
@@ -288,8 +365,15 @@ def build_parser():
     render = sub.add_parser("render", help="render a .vtp scene or result to PNG")
     render.add_argument("input", metavar="IN.vtp")
     render.add_argument("-o", "--output", required=True, metavar="OUT.png")
-    render.add_argument("--camera", choices=("auto", "cornell"), default="auto",
-                        help="'cornell' for the Cornell box camera (default: auto)")
+    render.add_argument("--camera", default="auto", metavar="CAMERA",
+                        help="'auto' (default): inside a closed room, from the room looking "
+                             "at its most lit wall; otherwise from outside, framing the "
+                             "scene. 'cornell': the Cornell box camera. 'X,Y,Z:FX,FY,FZ' or "
+                             "'X,Y,Z:FX,FY,FZ:UX,UY,UZ': eye, focal point and view up "
+                             "(default up: +y), in scene units")
+    render.add_argument("--fov", type=float, default=None, metavar="DEGREES",
+                        help="vertical field of view in degrees, in [1, 179] (default: 70 "
+                             "inside rooms and with an explicit camera, 30 from outside)")
     render.add_argument("--size", type=_positive_int, nargs=2, default=(512, 512),
                         metavar=("W", "H"), help="picture size in pixels (default 512 512)")
     render.add_argument("--exposure", type=float, default=None,
@@ -308,11 +392,12 @@ def main(argv=None):
     if not getattr(args, "handler", None):
         parser.print_help()
         return 2
+    _show_warnings()
     try:
         return args.handler(args)
     except Exception as error:  # one line on stderr, never a traceback, for bad input
         from . import PenumbraError
         from .rendering import RenderError
         if isinstance(error, (PenumbraError, RenderError, OSError, ValueError)):
-            return _fail(error)
+            return _fail(error, INPUT_ERROR)
         raise

@@ -115,8 +115,14 @@ def apply_settings(algorithm, class_name, values):
             getattr(algorithm, "Set" + names[key])(value)
 
 
-def solve(scene, threads=None, progress=None, method="discontinuity", **settings):
+def solve(scene, threads=None, progress=None, method="discontinuity", strict=False,
+          quality=None, **settings):
     """Solve `scene` (a built-in name, a .vtp/.obj path, or a scene vtkPolyData).
+
+    Imported scenes are repaired where that is safe, with a PenumbraWarning
+    per kind of repair (see penumbra.load_scene); strict=True rejects them
+    instead. quality: "draft", "normal" or "high" (settings.QUALITY_PRESETS,
+    discontinuity method only); settings given by name override it.
 
     threads: worker threads (default: all cores). progress: a callable
     progress(stage_name, fraction) called as the solve runs (fraction of the
@@ -148,14 +154,22 @@ def solve(scene, threads=None, progress=None, method="discontinuity", **settings
         raise penumbra.PenumbraError("the standard method always computes the interreflections")
     if method == "standard":
         settings.pop("indirect", None)
+    if quality is not None:
+        from penumbra.settings import QUALITY_PRESETS, snake_case
+        if quality not in QUALITY_PRESETS:
+            raise penumbra.PenumbraError("unknown quality '%s': give one of %s"
+                                         % (quality, ", ".join(QUALITY_PRESETS)))
+        if method == "standard":
+            raise penumbra.PenumbraError("quality presets apply to the discontinuity method")
+        for name, value in QUALITY_PRESETS[quality].items():
+            if settings.get(snake_case(name)) is None:
+                settings[snake_case(name)] = value
     if threads is not None:
         vtkSMPTools.Initialize(int(threads))
     if isinstance(scene, vtkPolyData):
-        validator = penumbra.vtkPenumbraSceneValidator()
-        validator.SetInputData(scene)
-        scene_data = penumbra.run_filter(validator)
+        scene_data = penumbra.repair_scene(scene, strict=strict)
     else:
-        scene_data = penumbra.load_scene(scene)
+        scene_data = penumbra.load_scene(scene, strict=strict)
     if method == "standard":
         source = vtkTrivialProducer()
         source.SetOutput(scene_data)

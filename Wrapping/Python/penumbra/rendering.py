@@ -29,15 +29,64 @@ def _has_display():
     return bool(os.environ.get("DISPLAY"))
 
 
-def render_png(vtp_path, png_path, camera="auto", size=(512, 512), exposure=None):
+#: Vertical field of view (degrees) inside rooms and for explicit cameras: a
+#: room photographer's wide lens (about 24 mm on full frame, horizontally).
+INTERIOR_VIEW_ANGLE = 70.0
+
+
+def parse_camera(spec):
+    """A camera from its command-line form: "auto", "cornell", or a dict
+    {"position", "focal_point", "view_up"} from "X,Y,Z:FX,FY,FZ[:UX,UY,UZ]"
+    (view up +y when left out). Raises ValueError naming what is wrong."""
+    import math
+
+    if spec in ("auto", "cornell"):
+        return spec
+    if isinstance(spec, dict):
+        return spec
+    parts = str(spec).split(":")
+    if len(parts) not in (2, 3):
+        raise ValueError("expected auto, cornell or X,Y,Z:FX,FY,FZ[:UX,UY,UZ], got '%s'" % spec)
+    names = ("eye", "focal point", "view up")
+    vectors = []
+    for name, part in zip(names, parts):
+        try:
+            vector = tuple(float(v) for v in part.split(","))
+        except ValueError:
+            raise ValueError("the %s '%s' is not three numbers" % (name, part)) from None
+        if len(vector) != 3 or not all(math.isfinite(v) for v in vector):
+            raise ValueError("the %s '%s' is not three finite numbers" % (name, part))
+        vectors.append(vector)
+    if len(vectors) == 2:
+        vectors.append((0.0, 1.0, 0.0))
+    eye, focal, up = vectors
+    direction = [f - e for f, e in zip(focal, eye)]
+    if math.sqrt(sum(d * d for d in direction)) == 0.0:
+        raise ValueError("the eye and the focal point coincide")
+    cross = (direction[1] * up[2] - direction[2] * up[1], direction[2] * up[0] -
+             direction[0] * up[2], direction[0] * up[1] - direction[1] * up[0])
+    if math.sqrt(sum(c * c for c in cross)) == 0.0:
+        raise ValueError("the view up %s is parallel to the view direction" % (up,))
+    return {"position": eye, "focal_point": focal, "view_up": up}
+
+
+def render_png(vtp_path, png_path, camera="auto", size=(512, 512), exposure=None, fov=None):
     """Render the .vtp at `vtp_path` into `png_path`.
 
-    camera: "cornell" for the Cornell box camera, "auto" to frame the data.
+    camera: "auto" (inside a closed room: from the room, looking at its most
+    lit wall; otherwise from outside, framing the data), "cornell" for the
+    Cornell box camera, or "X,Y,Z:FX,FY,FZ[:UX,UY,UZ]" (see parse_camera).
+    fov: vertical view angle in degrees (default INTERIOR_VIEW_ANGLE inside
+    rooms and for explicit cameras, VTK's 30 from outside).
     exposure: radiance mapped to white; None picks the 99th percentile.
     Raises RenderError when no display can be had.
     """
+    if isinstance(camera, dict):
+        camera = "%s:%s:%s" % tuple(",".join(repr(float(v)) for v in camera[k])
+                                    for k in ("position", "focal_point", "view_up"))
+    parse_camera(camera)
     if _has_display():
-        _render_here(vtp_path, png_path, camera, size, exposure)
+        _render_here(vtp_path, png_path, camera, size, exposure, fov)
         return
     xvfb = shutil.which("xvfb-run")
     if not xvfb:
@@ -47,6 +96,8 @@ def render_png(vtp_path, png_path, camera="auto", size=(512, 512), exposure=None
                "-o", png_path, "--camera", camera, "--size", str(size[0]), str(size[1])]
     if exposure is not None:
         command += ["--exposure", repr(float(exposure))]
+    if fov is not None:
+        command += ["--fov", repr(float(fov))]
     env = dict(os.environ)
     package_root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env["PYTHONPATH"] = os.pathsep.join(
@@ -145,12 +196,142 @@ def _window(size):
     return window
 
 
-def make_render_window(data, camera="auto", size=(512, 512), exposure=None):
+def _triangles(data):
+    """(points, triangles, surface ids) of the polygons of `data`, triangulated
+    (fan; scene polygons are planar and the fans only feed ray tests)."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    points = vtk_to_numpy(data.GetPoints().GetData()).astype(float)
+    cells = vtk_to_numpy(data.GetPolys().GetData())
+    ids = data.GetCellData().GetArray("SurfaceId")
+    offset = data.GetNumberOfVerts() + data.GetNumberOfLines()
+    triangles, surfaces = [], []
+    k = cell = 0
+    while k < len(cells):
+        n = int(cells[k])
+        corners = cells[k + 1:k + 1 + n]
+        surface = int(ids.GetValue(offset + cell)) if ids is not None else cell
+        for j in range(1, n - 1):
+            triangles.append((corners[0], corners[j], corners[j + 1]))
+            surfaces.append(surface)
+        k += n + 1
+        cell += 1
+    return points, np.array(triangles, dtype=np.int64).reshape(-1, 3), np.array(surfaces)
+
+
+def _first_hits(locator, origins, directions, reach):
+    """The cell first met by each ray (or -1), and its distance."""
+    from vtkmodules.vtkCommonCore import mutable
+
+    cells, distances = [], []
+    for origin, direction in zip(origins, directions):
+        t, x, pcoords, sub, cell = mutable(0.0), [0.0] * 3, [0.0] * 3, mutable(0), mutable(-1)
+        target = [o + reach * d for o, d in zip(origin, direction)]
+        hit = locator.IntersectWithLine(list(origin), target, 0.0, t, x, pcoords, sub, cell)
+        cells.append(int(cell) if hit else -1)
+        distances.append(float(t) * reach if hit else float("inf"))
+    return cells, distances
+
+
+def interior_view(data):
+    """A camera inside a closed room, or None when `data` is not one.
+
+    A point is inside when nearly every ray from it meets the front of a
+    surface (a room's walls face inwards; from outside a box, rays meet backs
+    or nothing). Of the points at the middle of the bounding box at three
+    heights (+y up), the first inside one is used. The camera looks at the
+    wall (a surface facing sideways) with the most reflected light (area times
+    mean radiance; reflectance without a solution) from near the opposite wall,
+    at that height.
+    """
+    import numpy as np
+    from vtkmodules.vtkCommonDataModel import vtkPolyData
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray
+    from vtkmodules.vtkCommonDataModel import vtkStaticCellLocator
+    from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
+
+    if data.GetNumberOfPolys() == 0:
+        return None
+    points, triangles, surfaces = _triangles(data)
+    if not len(triangles):
+        return None
+    normals = np.cross(points[triangles[:, 1]] - points[triangles[:, 0]],
+                       points[triangles[:, 2]] - points[triangles[:, 0]])
+    areas = 0.5 * np.linalg.norm(normals, axis=1)
+    normals = normals / np.maximum(2.0 * areas, 1e-300)[:, None]
+    mesh = vtkPolyData()
+    vtk_points = vtkPoints()
+    vtk_points.SetData(numpy_to_vtk(points, deep=1))
+    mesh.SetPoints(vtk_points)
+    connectivity = np.hstack([np.full((len(triangles), 1), 3), triangles]).ravel()
+    polys = vtkCellArray()
+    polys.SetCells(len(triangles), numpy_to_vtkIdTypeArray(connectivity.astype(np.int64), deep=1))
+    mesh.SetPolys(polys)
+    locator = vtkStaticCellLocator()
+    locator.SetDataSet(mesh)
+    locator.BuildLocator()
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    reach = 4.0 * float(np.linalg.norm(hi - lo)) + 1e-12
+    # Directions spread evenly over the sphere (a Fibonacci lattice).
+    count = 64
+    k = np.arange(count) + 0.5
+    z = 1.0 - 2.0 * k / count
+    phi = np.pi * (1.0 + 5.0 ** 0.5) * k
+    directions = np.stack([np.sqrt(1 - z * z) * np.cos(phi), z,
+                           np.sqrt(1 - z * z) * np.sin(phi)], axis=1)
+    eye = None
+    for height in (0.5, 0.4, 0.6):
+        candidate = np.array([0.5 * (lo[0] + hi[0]), lo[1] + height * (hi[1] - lo[1]),
+                              0.5 * (lo[2] + hi[2])])
+        cells, _ = _first_hits(locator, [candidate] * count, directions, reach)
+        cells = np.array(cells)
+        fronts = (cells >= 0) & (np.einsum("ij,ij->i", normals[np.maximum(cells, 0)],
+                                           directions) < 0.0)
+        if fronts.mean() >= 0.95:
+            eye = candidate
+            break
+    if eye is None:
+        return None
+    radiance = data.GetPointData().GetArray("Radiance")
+    if radiance is not None:
+        light = vtk_to_numpy(radiance).sum(axis=1)[triangles].mean(axis=1)
+    else:
+        reflectance = data.GetCellData().GetArray("Reflectance")
+        light = (vtk_to_numpy(reflectance).sum(axis=1)[surfaces] if reflectance is not None
+                 else np.ones(len(triangles)))
+    sideways = np.abs(normals[:, 1]) < 0.3
+    facing = np.einsum("ij,ij->i", normals, eye - points[triangles].mean(axis=1)) > 0.0
+    candidates = sideways & facing
+    if not candidates.any():
+        return None
+    scores = {}
+    for s in np.unique(surfaces[candidates]):
+        mask = candidates & (surfaces == s)
+        scores[int(s)] = float(np.sum(areas[mask] * light[mask]))
+    wall = max(scores, key=scores.get)
+    mask = candidates & (surfaces == wall)
+    centre = np.sum(points[triangles[mask]].mean(axis=1) * areas[mask, None], axis=0) \
+        / np.sum(areas[mask])
+    normal = np.sum(normals[mask] * areas[mask, None], axis=0)
+    normal[1] = 0.0
+    normal /= max(np.linalg.norm(normal), 1e-300)
+    focal = np.array([centre[0], eye[1], centre[2]])
+    start = focal + normal * 1e-6 * reach
+    _, distance = _first_hits(locator, [start], [normal], reach)
+    depth = distance[0] if np.isfinite(distance[0]) else float(np.linalg.norm(eye - focal))
+    position = focal + normal * 0.9 * depth
+    return {"position": tuple(position), "focal_point": tuple(focal), "view_up": (0.0, 1.0, 0.0)}
+
+
+def make_render_window(data, camera="auto", size=(512, 512), exposure=None, fov=None):
     """An off-screen vtkRenderWindow showing `data` (a scene or a solution).
 
     A solution (point array `Radiance`) is shown unlit, as computed, through
     `radiance_to_colors`; a bare scene in its reflectance colors (emitters
-    white) under a headlight. Needs an X display (see `render_png`).
+    white) under a headlight. camera and fov as for `render_png`. Needs an X
+    display (see `render_png`).
     """
     from vtkmodules.vtkRenderingCore import vtkRenderer
 
@@ -161,16 +342,27 @@ def make_render_window(data, camera="auto", size=(512, 512), exposure=None):
     window = _window(size)
     window.AddRenderer(renderer)
     view = renderer.GetActiveCamera()
+    camera = parse_camera(camera)
+    if camera == "auto":
+        camera = interior_view(data) or "auto"
     if camera == "cornell":
         view.SetPosition(*CORNELL_CAMERA["position"])
         view.SetFocalPoint(*CORNELL_CAMERA["focal_point"])
         view.SetViewUp(*CORNELL_CAMERA["view_up"])
-        view.SetViewAngle(CORNELL_CAMERA["view_angle"])
+        view.SetViewAngle(fov or CORNELL_CAMERA["view_angle"])
+        renderer.ResetCameraClippingRange()
+    elif isinstance(camera, dict):
+        view.SetPosition(*camera["position"])
+        view.SetFocalPoint(*camera["focal_point"])
+        view.SetViewUp(*camera["view_up"])
+        view.SetViewAngle(fov or INTERIOR_VIEW_ANGLE)
         renderer.ResetCameraClippingRange()
     else:
         view.SetPosition(0.6, 0.8, -1.0)
         view.SetFocalPoint(0.0, 0.0, 0.0)
         view.SetViewUp(0.0, 1.0, 0.0)
+        if fov:
+            view.SetViewAngle(fov)
         renderer.ResetCamera()
         view.Zoom(1.2)
     window._penumbra_keep = keep + (actor, renderer)  # keep the pipeline alive
@@ -343,7 +535,7 @@ def _point_areas(data):
     return areas
 
 
-def _render_here(vtp_path, png_path, camera, size, exposure):
+def _render_here(vtp_path, png_path, camera, size, exposure, fov=None):
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
     reader = vtkXMLPolyDataReader()
@@ -355,6 +547,6 @@ def _render_here(vtp_path, png_path, camera, size, exposure):
     # Render at 3x and filter down: anti-aliasing that Xvfb's OpenGL lacks
     # (edges of faces seen at grazing angles would look dotted).
     supersampling = 3
-    window = make_render_window(data, camera, [supersampling * n for n in size], exposure)
+    window = make_render_window(data, camera, [supersampling * n for n in size], exposure, fov)
     save_window_png(window, png_path, size)
     window.Finalize()

@@ -11,6 +11,7 @@ import re
 FILTERS = (
     "vtkPenumbraSceneSource",
     "vtkPenumbraOBJReader",
+    "vtkPenumbraSceneRepair",
     "vtkPenumbraSceneValidator",
     "vtkPenumbraDiscontinuityMesher",
     "vtkPenumbraRadianceEvaluator",
@@ -19,6 +20,16 @@ FILTERS = (
     "vtkPenumbraSolver",
     "vtkPenumbraStandardRadiositySolver",
 )
+
+
+#: `penumbra solve --quality` and `penumbra.solve(quality=...)`: vtkPenumbraSolver
+#: settings by name; "normal" is the filters' defaults. Measured on the Cornell box
+#: in Documentation/benchmarks.md ("Quality presets").
+QUALITY_PRESETS = {
+    "draft": {"SamplingTolerance": 1e-2, "UnshotFraction": 1e-2},
+    "normal": {},
+    "high": {"SamplingTolerance": 5e-4, "UnshotFraction": 1e-4},
+}
 
 
 class Setting:
