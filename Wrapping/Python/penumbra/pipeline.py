@@ -116,7 +116,7 @@ def apply_settings(algorithm, class_name, values):
 
 
 def solve(scene, threads=None, progress=None, method="discontinuity", **settings):
-    """Solve `scene` (a built-in name, a .vtp/.obj path, or a scene vtkPolyData).
+    """Solve `scene` (a built-in name, a .vtp/.obj/.gltf/.glb path, or a scene vtkPolyData).
 
     threads: worker threads (default: all cores). progress: a callable
     progress(stage_name, fraction) called as the solve runs (fraction of the
