@@ -62,7 +62,8 @@ class GLTF:
         return primitive
 
     def save(self, path):
-        doc = json.loads(json.dumps(self.doc))
+        # glTF forbids empty arrays.
+        doc = {k: v for k, v in json.loads(json.dumps(self.doc)).items() if v != []}
         data = bytes(self.data) + b"\0" * (-len(self.data) % 4)
         doc["buffers"] = [{"byteLength": len(data)}]
         if str(path).endswith(".glb"):
@@ -479,7 +480,9 @@ def test_result_gltf_has_colours_and_radiance(tmp_path, box_result, extension):
     except ImportError:
         return
     gltf = pygltflib.GLTF2().load(path)
-    assert gltf.meshes[0].primitives[0].attributes.COLOR_0 is not None
+    attributes = gltf.meshes[0].primitives[0].attributes
+    assert attributes.COLOR_0 is not None and attributes._RADIANCE is not None
+    assert gltf.asset.extras["penumbra"]["exposure"] == exposure
 
 
 def test_result_default_exposure_is_the_area_99th_percentile(tmp_path, box_result):
