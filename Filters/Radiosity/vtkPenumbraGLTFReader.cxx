@@ -205,6 +205,24 @@ void CheckNodeTrees(const GLTFFile& file)
   }
 }
 
+/// glTF requires a reader to refuse a file that requires an extension it does not
+/// know (compressed meshes, e.g.): those whose loss changes no surface are known.
+void CheckRequiredExtensions(const GLTFFile& file)
+{
+  static const char* const known[] = { "KHR_materials_emissive_strength", "KHR_materials_unlit",
+    "KHR_texture_transform", "KHR_lights_punctual" };
+  const Json::Value& required = Member(file.Document, "extensionsRequired");
+  for (Json::ArrayIndex k = 0; required.isArray() && k < required.size(); ++k)
+  {
+    const std::string name = required[k].isString() ? required[k].asString() : "";
+    if (std::none_of(std::begin(known), std::end(known),
+          [&name](const char* extension) { return name == extension; }))
+    {
+      file.Fail("it requires the extension '" + name + "', which the reader does not read");
+    }
+  }
+}
+
 /// `value[key]` as a non-negative integer, `fallback` when absent.
 std::uint64_t Count(
   const GLTFFile& file, const Json::Value& value, const char* key, std::uint64_t fallback)
@@ -616,6 +634,7 @@ int vtkPenumbraGLTFReader::Execute(
   // Our own parse first: it gives the clearer message for a file that is not
   // glTF, and the loader does not keep KHR_materials_emissive_strength.
   ParseJson(file);
+  CheckRequiredExtensions(file);
   CheckNodeTrees(file);
   CheckAccessors(file);
   const std::shared_ptr<Model> model = LoadModel(file, this);

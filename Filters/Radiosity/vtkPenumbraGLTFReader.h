@@ -40,12 +40,15 @@
  * Errors name the file and what is wrong, and leave the output empty: no file
  * name, a file that cannot be opened or is not glTF 2.0 (the loader's message
  * is relayed), a .glb that is not binary glTF or a binary glTF not named .glb,
- * nodes that do not form trees (a node that is its own ancestor or has two
- * parents), accessors or buffer views that run past the end of their data,
- * out-of-range indices, and non-finite coordinates, transforms or material
- * factors. Nodes and accessors are checked on the file's JSON before VTK's
- * loader reads it, since the loader recurses without end on a cycle and reads
- * past the end of a buffer.
+ * a file that requires an extension other than KHR_materials_emissive_strength,
+ * KHR_materials_unlit, KHR_texture_transform and KHR_lights_punctual (e.g.
+ * compressed meshes), nodes that do not form trees (a node that is its own
+ * ancestor or has two parents), accessors or buffer views that run past the
+ * end of their data, out-of-range indices, and non-finite coordinates,
+ * transforms or material factors. Extensions, nodes and accessors are checked
+ * on the file's JSON before VTK's loader reads it, since the loader ignores
+ * extensionsRequired, recurses without end on a cycle and reads past the end
+ * of a buffer.
  *
  * @sa vtkPenumbraOBJReader vtkPenumbraSceneValidator vtkGLTFDocumentLoader
  */

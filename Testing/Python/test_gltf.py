@@ -302,6 +302,9 @@ def test_bad_files_name_the_file(tmp_path):
     long.doc["nodes"] = [{"mesh": 0}]
     long.doc["scenes"] = [{"nodes": [0]}]
     long.save(tmp_path / "long.gltf")
+    draco = GLTF()  # compressed meshes are not read: refuse rather than read nothing
+    draco.doc["extensionsUsed"] = draco.doc["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+    draco.save(tmp_path / "draco.glb")
     cycle = GLTF()
     cycle.doc["nodes"] = [{"children": [1]}, {"children": [0]}]
     cycle.doc["scenes"] = [{"nodes": [0]}]
@@ -309,6 +312,7 @@ def test_bad_files_name_the_file(tmp_path):
     for name, fragment in (("text.gltf", "not glTF"), ("json.glb", "binary glTF"),
                            ("nan.gltf", "non-finite"), ("cycle.gltf", "own ancestor"),
                            ("long.gltf", "runs past the end"),
+                           ("draco.glb", "KHR_draco_mesh_compression"),
                            ("absent.glb", "not found")):
         path = str(tmp_path / name)
         with pytest.raises(penumbra.PenumbraError) as error:

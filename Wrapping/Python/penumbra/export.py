@@ -12,10 +12,11 @@ percentile that `penumbra render` uses), clipped to [0, 1].
 - glTF: `COLOR_0` holds that value linearly, as floats, since glTF defines
   vertex colours as linear (a viewer encodes them to sRGB for display, which
   gives the 8-bit sRGB tone map of `penumbra render`); the material is unlit
-  (KHR_materials_unlit) so that viewers show the colours as they are. The linear radiance itself is the custom attribute
-  `_RADIANCE` (float RGB), and `asset.extras.penumbra` records the exposure.
-  The geometry is written by VTK's vtkGLTFWriter, which VTK 9.1 makes write
-  neither colours, custom attributes nor .glb: its output is completed here.
+  (KHR_materials_unlit) so that viewers show the colours as they are. The
+  linear radiance itself is the custom attribute `_RADIANCE` (float RGB), and
+  `asset.extras.penumbra` records the exposure. The geometry is written by
+  VTK's vtkGLTFWriter, which in VTK 9.1 writes neither colours, custom
+  attributes nor .glb: its output is completed here.
 - PLY: 8-bit sRGB colours (`red`, `green`, `blue`), what PLY viewers display.
 
 A scene written as glTF has one primitive per run of consecutive polygons of
@@ -48,19 +49,19 @@ def _extension(path, allowed, what):
 
     extension = os.path.splitext(str(path))[1].lower()
     if extension not in allowed:
-        raise PenumbraError("cannot write %s '%s': unknown extension '%s' (give %s)"
-                            % (what, path, extension, ", ".join(allowed)))
+        raise PenumbraError("cannot write %s to '%s': unknown extension '%s' (give %s or %s)"
+                            % (what, path, extension, ", ".join(allowed[:-1]), allowed[-1]))
     return extension
 
 
 def check_result_path(path):
     """Raise PenumbraError unless `path` names a format write_result writes."""
-    _extension(path, RESULT_EXTENSIONS, "a result as")
+    _extension(path, RESULT_EXTENSIONS, "a result")
 
 
 def check_scene_path(path):
     """Raise PenumbraError unless `path` names a format write_scene writes."""
-    _extension(path, SCENE_EXTENSIONS, "a scene as")
+    _extension(path, SCENE_EXTENSIONS, "a scene")
 
 
 def write_vtp(polydata, path):
@@ -87,7 +88,7 @@ def write_result(polydata, path, exposure=None):
     """
     from . import PenumbraError
 
-    extension = _extension(path, RESULT_EXTENSIONS, "a result as")
+    extension = _extension(path, RESULT_EXTENSIONS, "a result")
     if extension == ".vtp":
         if not write_vtp(polydata, path):
             raise PenumbraError("could not write %s" % path)
@@ -111,7 +112,7 @@ def write_scene(polydata, path):
     """Write a scene (polygons with Reflectance and Emission) to .vtp, .gltf or .glb."""
     from . import PenumbraError
 
-    extension = _extension(path, SCENE_EXTENSIONS, "a scene as")
+    extension = _extension(path, SCENE_EXTENSIONS, "a scene")
     if extension == ".vtp":
         if not write_vtp(polydata, path):
             raise PenumbraError("could not write %s" % path)
