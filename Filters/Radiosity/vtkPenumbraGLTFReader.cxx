@@ -28,7 +28,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -390,7 +389,8 @@ public:
     {
       vtkWarningWithObjectMacro(this->Owner,
         << "glTF file '" << this->File.Path << "': skipped " << this->SkippedPrimitives
-        << " point or line primitive(s); only triangles are surfaces");
+        << " primitive(s) without triangles (points, lines or no positions); only "
+           "triangles are surfaces");
     }
     return std::move(this->Scene);
   }

@@ -9,13 +9,13 @@
  * matrix or translation, rotation and scale), and every triangle of every
  * primitive of a node's mesh becomes one polygon cell, in world coordinates,
  * in the order nodes, primitives and triangles appear. Triangle strips and
- * fans are split into their triangles; point and line primitives are skipped
- * with a warning. Under a transform of negative determinant (a mirror) the
- * triangles' vertex order is reversed, since glTF then takes clockwise faces
- * as front faces and Penumbra counter-clockwise ones. Triangles are not merged
- * into larger polygons, and vertex attributes other than POSITION (normals,
- * texture coordinates, colours), skins, morph targets, animations, cameras and
- * punctual lights are ignored.
+ * fans are split into their triangles; primitives without triangles (points,
+ * lines) are skipped with a warning. Under a transform of negative determinant
+ * (a mirror) the triangles' vertex order is reversed, since glTF then takes
+ * clockwise faces as front faces and Penumbra counter-clockwise ones.
+ * Triangles are not merged into larger polygons, and vertex attributes other
+ * than POSITION (normals, texture coordinates, colours), skins, morph targets,
+ * animations, cameras and punctual lights are ignored.
  *
  * Each cell takes its primitive's material:
  * - `Reflectance` = the RGB of pbrMetallicRoughness.baseColorFactor (glTF's

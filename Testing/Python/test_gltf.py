@@ -245,6 +245,32 @@ def test_strips_and_fans_become_triangles(tmp_path, mode):
         assert same_polygon(cell, fan[triangle]), (cell, fan[triangle])
 
 
+def read_with_warnings(path):
+    """The reader's output and what it wrote to VTK's output window."""
+    window = vtkStringOutputWindow()
+    previous = vtkOutputWindow.GetInstance()
+    vtkOutputWindow.SetInstance(window)
+    try:
+        reader = penumbra.vtkPenumbraGLTFReader()
+        reader.SetFileName(str(path))
+        reader.Update()
+    finally:
+        vtkOutputWindow.SetInstance(previous)
+    return reader.GetOutput(), window.GetOutput()
+
+
+def test_line_primitives_are_skipped_with_a_warning(tmp_path):
+    g = GLTF()
+    lines = g.primitive(QUAD, [0, 1, 1, 2])
+    lines["mode"] = 1
+    g.doc["meshes"] = [{"primitives": [lines, g.primitive(TRIANGLE, [[0, 1, 2]])]}]
+    g.doc["nodes"] = [{"mesh": 0}]
+    g.doc["scenes"] = [{"nodes": [0]}]
+    g.save(tmp_path / "lines.gltf")
+    scene, warnings = read_with_warnings(tmp_path / "lines.gltf")
+    assert scene.GetNumberOfCells() == 1 and "skipped 1 primitive" in warnings
+
+
 def test_texture_mean_and_warning(tmp_path):
     from vtkmodules.vtkCommonDataModel import vtkImageData
     from vtkmodules.vtkIOImage import vtkPNGWriter
@@ -272,18 +298,9 @@ def test_texture_mean_and_warning(tmp_path):
     linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
     expected = np.array([0.9, 0.8, 0.7]) * linear.mean(axis=0)
 
-    window = vtkStringOutputWindow()
-    previous = vtkOutputWindow.GetInstance()
-    vtkOutputWindow.SetInstance(window)
-    try:
-        reader = penumbra.vtkPenumbraGLTFReader()
-        reader.SetFileName(str(tmp_path / "painted.gltf"))
-        reader.Update()
-    finally:
-        vtkOutputWindow.SetInstance(previous)
-    np.testing.assert_allclose(cell_array(reader.GetOutput(), "Reflectance")[0], expected,
-                               rtol=1e-12)
-    assert "Painted" in window.GetOutput() and "texture" in window.GetOutput()
+    scene, warnings = read_with_warnings(tmp_path / "painted.gltf")
+    np.testing.assert_allclose(cell_array(scene, "Reflectance")[0], expected, rtol=1e-12)
+    assert "Painted" in warnings and "texture" in warnings
     # A warning is not an error: the scene loads.
     assert penumbra.load_scene(str(tmp_path / "painted.gltf")).GetNumberOfCells() == 1
 
