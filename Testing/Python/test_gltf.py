@@ -497,6 +497,7 @@ def test_result_gltf_has_colours_and_radiance(tmp_path, box_result, extension):
     np.testing.assert_allclose(values[indices], radiance[triangles], rtol=1e-6)
     assert doc["asset"]["extras"]["penumbra"]["exposure"] == exposure
     assert "KHR_materials_unlit" in doc["extensionsUsed"]
+    assert "cameras" not in doc and all("camera" not in node for node in doc["nodes"])
     try:
         import pygltflib
     except ImportError:

@@ -233,7 +233,7 @@ def _save_gltf(document, buffer, path):
 
 def _vtk_gltf_geometry(points, triangles):
     """The document and buffer vtkGLTFWriter writes for the triangles
-    (positions, indices, nodes, a camera), its data in one buffer of ours."""
+    (positions, indices, a material, nodes), its data in one buffer of ours."""
     import numpy as np
     from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
     from vtkmodules.vtkIOGeometry import vtkGLTFWriter
@@ -254,7 +254,24 @@ def _vtk_gltf_geometry(points, triangles):
     for view in document.pop("bufferViews"):  # in order: the accessors' indices hold
         offset = view.get("byteOffset", 0)
         buffer.add(raw[view["buffer"]][offset:offset + view["byteLength"]], view.get("target"))
+    _drop_cameras(document)
     return document, buffer
+
+
+def _drop_cameras(document):
+    """Remove the camera nodes: VTK 9.1's writer places its camera by the view
+    transform, not its inverse, so it looks away from the data; viewers frame
+    the scene themselves."""
+    nodes = document.get("nodes", [])
+    kept = [k for k, node in enumerate(nodes) if "camera" not in node]
+    index = {old: new for new, old in enumerate(kept)}
+    document["nodes"] = [nodes[k] for k in kept]
+    for node in document["nodes"]:
+        if "children" in node:
+            node["children"] = [index[c] for c in node["children"] if c in index]
+    for scene in document.get("scenes", []):
+        scene["nodes"] = [index[n] for n in scene.get("nodes", []) if n in index]
+    document.pop("cameras", None)
 
 
 def _write_result_gltf(points, triangles, radiance, exposure, path):
