@@ -55,6 +55,11 @@ std::string vtkPenumbraAlgorithm::ErrorText(const std::string& message)
   {
     const std::size_t next = message.find(header, start + 1);
     std::string block = message.substr(start, next == std::string::npos ? next : next - start);
+    // A warning that follows (or, without an error, is) the text is not an error.
+    for (const char* warning : { "Generic Warning: In ", "Warning: In " })
+    {
+      block = block.substr(0, block.find(warning));
+    }
     if (block.compare(0, header.size(), header) == 0)
     {
       // Drop "ERROR: In file, line N" and the "vtkClass (0x...): " prefix.

@@ -45,8 +45,8 @@ public:
    * file, line N\nvtkClass (0x...): text" blocks), returns the first
    * error's text with runs of white space made single, skipping the
    * executive's "returned failure for request" that follows a filter's own
-   * error; a message without the header is returned as it is. Empty when
-   * there is none.
+   * error and warnings ("Warning: In ..." blocks of vtkWarningMacro); a
+   * message without the header is returned as it is. Empty when there is none.
    */
   static std::string ErrorText(const std::string& message);
 

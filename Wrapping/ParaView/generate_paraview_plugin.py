@@ -111,9 +111,9 @@ def main():
                             "%s: %s" % (s["name"], s["description"]) for s in scenes)),
         '<StringVectorProperty name="FileName" command="SetParameter" initial_string="file_name" '
         'number_of_elements="1" default_values=""><FileListDomain name="files"/><Hints>'
-        '<FileChooser extensions="obj vtp" file_description="Penumbra scenes"/></Hints>'
-        + documentation("A scene file (.obj with its .mtl, or .vtp with the data contract's "
-                        "cell arrays) instead of the built-in scene; empty: the built-in "
+        '<FileChooser extensions="obj gltf glb vtp" file_description="Penumbra scenes"/></Hints>'
+        + documentation("A scene file (.obj with its .mtl, .gltf or .glb, or .vtp with the data "
+                        "contract's cell arrays) instead of the built-in scene; empty: the built-in "
                         "scene.") + '</StringVectorProperty>',
         script_xml(preamble + runtime + scene_call)]
 
@@ -144,7 +144,8 @@ def main():
            '</ProxyGroup>\n</ServerManagerConfiguration>\n'
            % (arguments.version,
               proxy_xml("PenumbraScene", "Penumbra Scene",
-                        "A Penumbra scene: a built-in scene, or an .obj or .vtp scene file.",
+                        "A Penumbra scene: a built-in scene, or an .obj, .gltf, .glb or .vtp "
+                        "scene file.",
                         scene_properties),
               proxy_xml("PenumbraSolve", "Penumbra Solve",
                         "Penumbra's radiosity solution of the input scene (vtkPenumbraSolver, "

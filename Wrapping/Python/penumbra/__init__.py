@@ -19,6 +19,7 @@ import vtkmodules.vtkCommonExecutionModel  # noqa: F401
 from .vtkPenumbraFilters import (  # noqa: F401
     vtkPenumbraAlgorithm,
     vtkPenumbraDiscontinuityMesher,
+    vtkPenumbraGLTFReader,
     vtkPenumbraOBJReader,
     vtkPenumbraSceneRepair,
     vtkPenumbraSceneSource,
@@ -147,7 +148,7 @@ def _check_vtp_counts(path):
 
 
 def load_scene(scene, strict=False):
-    """A validated scene vtkPolyData from a built-in name, a .vtp or an .obj path.
+    """A validated scene vtkPolyData from a built-in name or a .vtp, .obj, .gltf or .glb path.
 
     Imported scenes are repaired where that is safe (vtkPenumbraSceneRepair:
     near-duplicate vertices welded, non-planar polygons triangulated, zero-area
@@ -164,12 +165,14 @@ def load_scene(scene, strict=False):
     if scene in names:
         reader = vtkPenumbraSceneSource()
         reader.SetSceneName(scene)
-    elif scene.lower().endswith(".obj"):
+    elif scene.lower().endswith((".obj", ".gltf", ".glb")):
         if not os.path.isfile(scene):
             raise PenumbraError("scene file not found: %s" % scene)
-        reader = vtkPenumbraOBJReader()
+        obj = scene.lower().endswith(".obj")
+        reader = vtkPenumbraOBJReader() if obj else vtkPenumbraGLTFReader()
         reader.SetFileName(scene)
-        reader.SetStrict(bool(strict))
+        if obj:
+            reader.SetStrict(bool(strict))
     elif scene.lower().endswith(".vtp"):
         if not os.path.isfile(scene):
             raise PenumbraError("scene file not found: %s" % scene)
@@ -178,10 +181,10 @@ def load_scene(scene, strict=False):
         reader.SetFileName(scene)
     else:
         raise PenumbraError(
-            "unknown scene '%s': give a built-in name (%s) or a .vtp/.obj file"
+            "unknown scene '%s': give a built-in name (%s) or a .vtp/.obj/.gltf/.glb file"
             % (scene, ", ".join(names)))
     found = []
-    # The OBJ reader names file and line itself; XML errors need the file name.
+    # The OBJ and glTF readers name the file themselves; XML errors need it added.
     run_filter(reader, context=scene if scene.lower().endswith(".vtp") else None,
                warnings=found)
     repair = vtkPenumbraSceneRepair()

@@ -1,16 +1,16 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The `penumbra` command line.
 
-    penumbra solve SCENE -o OUT.vtp [--png OUT.png] [--threads N]
+    penumbra solve SCENE -o OUT.vtp|.gltf|.glb|.ply [--png OUT.png] [--threads N]
                    [--method discontinuity|standard] [--set NAME=VALUE ...]
                    [--sensors POINTS.csv --sensors-out VALUES.csv]
-    penumbra scene SCENE -o OUT.vtp
+    penumbra scene SCENE -o OUT.vtp|.gltf|.glb
     penumbra scenes [--json]
     penumbra settings [--markdown | --json]
     penumbra info OUT.vtp
     penumbra render IN.vtp -o OUT.png [--camera auto|cornell|X,Y,Z:FX,FY,FZ[:UX,UY,UZ]]
 
-SCENE is a built-in scene name (see `penumbra scenes`) or a .vtp/.obj file
+SCENE is a built-in scene name (see `penumbra scenes`) or a .vtp/.obj/.gltf/.glb file
 following Penumbra's data contract. Exit status 0 on success, 2 for usage
 errors, 1 for bad input or a failed solve, with a one-line message on
 standard error; repaired input gives one warning line per kind of repair.
@@ -104,25 +104,13 @@ def _command_scenes(args):
     return 0
 
 
-def _write_vtp(polydata, path):
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
-
-    writer = vtkXMLPolyDataWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(polydata)
-    # Inline (not appended) data: Debian 12's expat security update makes
-    # ParaView 5.11 reject large appended sections.
-    writer.SetDataModeToBinary()
-    writer.SetCompressorTypeToZLib()
-    return writer.Write() == 1
-
-
 def _command_scene(args):
     import penumbra
+    from . import export
 
+    export.check_scene_path(args.output)
     scene = penumbra.load_scene(args.scene, strict=args.strict)
-    if not _write_vtp(scene, args.output):
-        return _fail("could not write %s" % args.output)
+    export.write_scene(scene, args.output)
     print("wrote %s (%d polygons)" % (args.output, scene.GetNumberOfCells()))
     return 0
 
@@ -149,7 +137,9 @@ def _command_settings(args):
 def _command_solve(args):
     import penumbra
     from penumbra import settings as filter_settings
+    from . import export
 
+    export.check_result_path(args.output)  # before the solve, not after
     start = time.time()
     bar = ProgressBar("solving", enabled=not args.quiet and not args.progress_lines)
     last = [-1.0]
@@ -191,8 +181,7 @@ def _command_solve(args):
     result = penumbra.solve(scene, threads=args.threads, progress=progress,
                             method=args.method, strict=args.strict, quality=args.quality,
                             **settings)
-    if not _write_vtp(result, args.output):
-        return _fail("could not write %s" % args.output)
+    export.write_result(result, args.output)
     elapsed = time.time() - start
     print("wrote %s (%d triangles, %d boundary lines) in %.2f s"
           % (args.output, result.GetNumberOfPolys(), result.GetNumberOfLines(), elapsed))
@@ -206,7 +195,14 @@ def _command_solve(args):
     if args.png:
         from .rendering import render_png
         camera = "cornell" if args.scene == "cornell" else "auto"
-        render_png(args.output, args.png, camera=camera)
+        if args.output.lower().endswith(".vtp"):
+            render_png(args.output, args.png, camera=camera)
+        else:  # the renderer reads .vtp
+            import tempfile
+            with tempfile.TemporaryDirectory() as folder:
+                vtp = os.path.join(folder, "result.vtp")
+                export.write_result(result, vtp)
+                render_png(vtp, args.png, camera=camera)
         print("wrote %s" % args.png)
     return 0
 
@@ -268,13 +264,18 @@ def build_parser():
     parser.add_argument("--version", action="store_true", help="print the version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
-    solve = sub.add_parser("solve", help="solve a scene and write the result as .vtp",
-                           description="Solve SCENE (a built-in name or a .vtp/.obj file) "
-                                       "and write the result.")
+    solve = sub.add_parser("solve", help="solve a scene and write the result as .vtp, .gltf, "
+                                         ".glb or .ply",
+                           description="Solve SCENE (a built-in name or a .vtp/.obj/.gltf/.glb "
+                                       "file) and write the result.")
     solve.add_argument("scene", metavar="SCENE",
-                       help="built-in scene name (see 'penumbra scenes') or a .vtp/.obj file")
-    solve.add_argument("-o", "--output", required=True, metavar="OUT.vtp",
-                       help="the result, a VTK XML polydata file")
+                       help="built-in scene name (see 'penumbra scenes') or a "
+                            ".vtp/.obj/.gltf/.glb file")
+    solve.add_argument("-o", "--output", required=True, metavar="OUT",
+                       help="the result, by its extension: .vtp (VTK XML polydata, every "
+                            "array), .gltf/.glb (glTF 2.0: triangles with tone-mapped vertex "
+                            "colours and the radiance as _RADIANCE) or .ply (triangles with "
+                            "8-bit sRGB vertex colours)")
     solve.add_argument("--png", metavar="OUT.png", help="also render a picture of the result")
     solve.add_argument("--threads", type=_positive_int, metavar="N",
                        help="worker threads (default: all cores)")
@@ -332,13 +333,16 @@ def build_parser():
                             "standard error instead of the bar")
     solve.set_defaults(handler=_command_solve)
 
-    scene = sub.add_parser("scene", help="write a scene (built-in, .obj or .vtp), validated, "
-                                         "as .vtp",
+    scene = sub.add_parser("scene", help="write a scene (built-in, .vtp, .obj, .gltf or .glb), "
+                                         "validated, as .vtp, .gltf or .glb",
                            description="Write SCENE, validated against the data contract, "
-                                       "as a VTK XML polydata file.")
+                                       "as a VTK XML polydata file or as glTF 2.0 (materials "
+                                       "from Reflectance and Emission).")
     scene.add_argument("scene", metavar="SCENE",
-                       help="built-in scene name (see 'penumbra scenes') or a .vtp/.obj file")
-    scene.add_argument("-o", "--output", required=True, metavar="OUT.vtp")
+                       help="built-in scene name (see 'penumbra scenes') or a "
+                            ".vtp/.obj/.gltf/.glb file")
+    scene.add_argument("-o", "--output", required=True, metavar="OUT",
+                       help="the scene, by its extension: .vtp, .gltf or .glb")
     scene.add_argument("--strict", action="store_true",
                        help="repair nothing: reject what would be repaired")
     scene.set_defaults(handler=_command_scene)

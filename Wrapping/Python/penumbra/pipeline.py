@@ -117,7 +117,7 @@ def apply_settings(algorithm, class_name, values):
 
 def solve(scene, threads=None, progress=None, method="discontinuity", strict=False,
           quality=None, **settings):
-    """Solve `scene` (a built-in name, a .vtp/.obj path, or a scene vtkPolyData).
+    """Solve `scene` (a built-in name, a .vtp/.obj/.gltf/.glb path, or a scene vtkPolyData).
 
     Imported scenes are repaired where that is safe, with a PenumbraWarning
     per kind of repair (see penumbra.load_scene); strict=True rejects them

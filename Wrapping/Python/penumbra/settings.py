@@ -11,6 +11,7 @@ import re
 FILTERS = (
     "vtkPenumbraSceneSource",
     "vtkPenumbraOBJReader",
+    "vtkPenumbraGLTFReader",
     "vtkPenumbraSceneRepair",
     "vtkPenumbraSceneValidator",
     "vtkPenumbraDiscontinuityMesher",
