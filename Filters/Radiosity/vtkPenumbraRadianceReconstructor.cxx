@@ -36,6 +36,7 @@ vtkPenumbraRadianceReconstructor::vtkPenumbraRadianceReconstructor()
   const penumbra::ResampleOptions display;
   this->Mode = interpolant.Mode == penumbra::ReconstructionMode::Linear ? LINEAR : CLOUGH_TOCHER;
   this->EnforceNonNegativity = interpolant.EnforceNonNegativity;
+  this->DisplayTolerance = display.DisplayTolerance;
   this->SubdivisionLevel = display.SubdivisionLevel;
   this->TargetEdgeLength = display.TargetEdgeLength;
   this->ComputeErrorEstimate = display.ComputeErrorEstimate;
@@ -403,6 +404,7 @@ int vtkPenumbraRadianceReconstructor::Execute(
                                       : penumbra::ReconstructionMode::CloughTocher;
   options.EnforceNonNegativity = this->EnforceNonNegativity;
   penumbra::ResampleOptions resample;
+  resample.DisplayTolerance = this->DisplayTolerance;
   resample.SubdivisionLevel = this->SubdivisionLevel;
   resample.TargetEdgeLength = this->TargetEdgeLength;
   resample.ComputeErrorEstimate = this->ComputeErrorEstimate;
@@ -438,6 +440,7 @@ void vtkPenumbraRadianceReconstructor::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Mode: " << (this->Mode == LINEAR ? "LINEAR" : "CLOUGH_TOCHER") << "\n";
+  os << indent << "DisplayTolerance: " << this->DisplayTolerance << "\n";
   os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
   os << indent << "TargetEdgeLength: " << this->TargetEdgeLength << "\n";
   os << indent << "EnforceNonNegativity: " << (this->EnforceNonNegativity ? "On" : "Off") << "\n";

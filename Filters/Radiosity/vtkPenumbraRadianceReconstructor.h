@@ -22,8 +22,9 @@
  * LINEAR interpolates the samples linearly instead (for comparison).
  *
  * Output (design contract): triangles covering every surface of the input,
- * each input triangle subdivided SubdivisionLevel times per edge (or to
- * TargetEdgeLength), cell data `SurfaceId`; point data `Radiance` (active
+ * each input triangle subdivided SubdivisionLevel times per edge (or as
+ * finely as DisplayTolerance needs, or to TargetEdgeLength), with no
+ * T-junction, cell data `SurfaceId`; point data `Radiance` (active
  * scalars; displaying it linearly interpolated is the reconstruction) and
  * `RadianceErrorEstimate` (3 components, same units: an estimate of the
  * reconstruction error at each point, from the sampling residuals and the
@@ -65,10 +66,24 @@ public:
 
   ///@{
   /**
-   * Display resampling: each input triangle edge is divided into this many
-   * pieces (level s gives s*s output triangles per input triangle). Default
-   * 2, range [1, 64]. Ignored when TargetEdgeLength is positive. Higher levels
-   * follow the cubic interpolant more closely (see
+   * Display resampling: each input triangle is cut only as finely as needed
+   * for the displayed radiance (linear over the output triangles) to stay
+   * within this fraction of the surface's mean radiance of the reconstructed
+   * cubic (see penumbra::ResampleOptions::DisplayTolerance). Default 0 (the
+   * uniform display, SubdivisionLevel everywhere), range [0, 1].
+   * Ignored when TargetEdgeLength is positive.
+   */
+  vtkSetClampMacro(DisplayTolerance, double, 0.0, 1.0);
+  vtkGetMacro(DisplayTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Uniform display resampling, when DisplayTolerance is 0: each input
+   * triangle edge is divided into this many pieces (level s gives s*s output
+   * triangles per input triangle). Default 2, range [1, 64]. Ignored when
+   * TargetEdgeLength or DisplayTolerance is positive. Higher levels follow the
+   * cubic interpolant more closely (see
    * penumbra::ResampleOptions::SubdivisionLevel) for s*s times the output.
    */
   vtkSetClampMacro(SubdivisionLevel, int, 1, 64);
@@ -78,7 +93,8 @@ public:
   ///@{
   /**
    * When positive, divide each input edge into pieces no longer than this
-   * (scene units; at most 64 pieces per edge) instead of SubdivisionLevel.
+   * (scene units; at most 64 pieces per edge) instead of DisplayTolerance and
+   * SubdivisionLevel.
    * Default 0 (off), range [0, 1e300].
    */
   vtkSetClampMacro(TargetEdgeLength, double, 0.0, 1e300);
@@ -111,6 +127,7 @@ protected:
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int Mode;
+  double DisplayTolerance;
   int SubdivisionLevel;
   double TargetEdgeLength;
   bool EnforceNonNegativity;

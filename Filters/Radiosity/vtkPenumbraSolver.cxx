@@ -53,6 +53,7 @@ vtkPenumbraSolver::vtkPenumbraSolver()
   this->ExactPowerFraction = transport.Shooting.ExactPowerFraction;
   this->ReuseTransport = transport.Shooting.ReuseTransport;
   this->MaximumIndirectSamples = static_cast<vtkIdType>(transport.MaximumIndirectSamples);
+  this->DisplayTolerance = display.DisplayTolerance;
   this->SubdivisionLevel = display.SubdivisionLevel;
   this->SecondaryShooterFraction = transport.SecondaryShooterFraction;
 }
@@ -173,6 +174,7 @@ int vtkPenumbraSolver::Execute(
   vtkNew<vtkPenumbraRadianceReconstructor> reconstructor;
   reconstructor->SetInputConnection(
     this->Indirect ? shooter->GetOutputPort() : evaluator->GetOutputPort());
+  reconstructor->SetDisplayTolerance(this->DisplayTolerance);
   reconstructor->SetSubdivisionLevel(this->SubdivisionLevel);
 
   // Shares of the progress bar: about the shares of the time on the Cornell box.
@@ -328,6 +330,7 @@ void vtkPenumbraSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
   os << indent << "MaximumSamples: " << this->MaximumSamples << "\n";
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
+  os << indent << "DisplayTolerance: " << this->DisplayTolerance << "\n";
   os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
   os << indent << "SecondaryShooterFraction: " << this->SecondaryShooterFraction << "\n";
 }

@@ -137,8 +137,21 @@ public:
 
   ///@{
   /**
-   * Display resampling: each sample triangle's edges are cut in this many
-   * pieces (vtkPenumbraRadianceReconstructor::SubdivisionLevel). Default 2, range
+   * Display resampling: each sample triangle is cut only as finely as needed
+   * for the displayed radiance to stay within this fraction of the surface's
+   * mean radiance of the reconstruction
+   * (vtkPenumbraRadianceReconstructor::DisplayTolerance). Default 0
+   * (SubdivisionLevel everywhere), range [0, 1].
+   */
+  vtkSetClampMacro(DisplayTolerance, double, 0.0, 1.0);
+  vtkGetMacro(DisplayTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Uniform display resampling, when DisplayTolerance is 0: each sample
+   * triangle's edges are cut in this many pieces
+   * (vtkPenumbraRadianceReconstructor::SubdivisionLevel). Default 2, range
    * [1, 64].
    */
   vtkSetClampMacro(SubdivisionLevel, int, 1, 64);
@@ -159,6 +172,7 @@ protected:
   vtkIdType MaximumIndirectSamples;
   bool ReuseTransport;
   double MinimumAngle;
+  double DisplayTolerance;
   int SubdivisionLevel;
   double SecondaryShooterFraction;
 

@@ -3,7 +3,8 @@
  * @file penumbraResampling.cxx
  * @brief Resampling of the reconstruction for display: every input triangle
  * subdivided (regularly, or a lattice inside and strips along its edges when
- * its edges get different counts), shared edges split identically on both
+ * its edges get different counts), uniformly, to a target edge length, or as
+ * finely as a display tolerance needs; shared edges split identically on both
  * sides, the error estimate spread to the output points, and the input's
  * constrained edges traced as polylines of output points.
  */
@@ -13,6 +14,7 @@
 #include "penumbraScene.h" // InputError
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -37,6 +39,11 @@ void CheckResampleOptions(const ResampleOptions& options)
   if (!(options.TargetEdgeLength >= 0.0) || !std::isfinite(options.TargetEdgeLength))
   {
     throw InputError("Reconstruction: TargetEdgeLength must be finite and >= 0");
+  }
+  if (!(options.DisplayTolerance >= 0.0 && options.DisplayTolerance <= 1.0))
+  {
+    throw InputError("Reconstruction: DisplayTolerance is " +
+      std::to_string(options.DisplayTolerance) + ", must be in [0, 1]");
   }
   if (options.MaximumSubdivisionLevel < 1 || options.MaximumSubdivisionLevel > 1024)
   {
@@ -84,6 +91,12 @@ private:
   };
 
   void CountSegments();
+  void ChooseAdaptiveLevels();
+  void CountEdgesFromLevels();
+  double Deviation(int t, int n);
+  double PieceDeviation(int t, const double (&b)[3][3], const std::array<const double*, 3>& p);
+  bool RaiseFailingLevels();
+  int InnerLevel(int t, const int n[3], bool& regular) const;
   void Reserve();
   int NewPoint(int t, const double b[3], int source);
   int EdgePoint(int t, int k, int i, int n);
@@ -104,13 +117,19 @@ private:
   const int NC;
   const bool Estimate;
   const bool Cubic;
-  // Segments per unique edge; output ids of input points and of edge points
+  // Segments per unique edge; with DisplayTolerance the level each triangle
+  // needs (empty otherwise); output ids of input points and of edge points
   // (first id of each edge).
   std::vector<int> Segments;
+  std::vector<int> Needed;
   std::vector<int> PointId;
   std::vector<int> EdgeFirst;
   std::vector<Net> Nets;
   std::vector<double> Value, Error;
+  // Adaptive levels: 1 / tolerance per channel (0: channel ignored), and the
+  // interpolant on the lattice being tested.
+  std::vector<double> InverseTolerance;
+  std::vector<double> LatticeValues;
   std::vector<Contribution> Contributions;
   // The current triangle, its lattice level and lattice point ids.
   int T = -1;
@@ -124,18 +143,26 @@ void Reconstruction::Internals::Resampler::Run()
   const Internals& in = this->In;
   const int nt = in.Mesh.GetNumberOfTriangles();
   const int nc = this->NC;
-  this->Output = ResampledMesh();
-  this->Output.NumberOfChannels = nc;
-  this->CountSegments();
-  this->PointId.assign(in.Mesh.GetNumberOfPoints(), -1);
-  this->EdgeFirst.assign(in.EdgeKinds.size(), -1);
-  this->Reserve();
   this->Nets.resize(nc);
   this->Value.resize(nc);
   this->Error.resize(nc);
-  for (int t = 0; t < nt; ++t)
+  this->CountSegments();
+  for (bool again = true; again;)
   {
-    this->SubdivideTriangle(t);
+    this->Output = ResampledMesh();
+    this->Output.NumberOfChannels = nc;
+    this->PointId.assign(in.Mesh.GetNumberOfPoints(), -1);
+    this->EdgeFirst.assign(in.EdgeKinds.size(), -1);
+    this->Reserve();
+    for (int t = 0; t < nt; ++t)
+    {
+      this->SubdivideTriangle(t);
+    }
+    again = !this->InverseTolerance.empty() && this->RaiseFailingLevels();
+    if (again)
+    {
+      this->CountEdgesFromLevels();
+    }
   }
   this->TraceLines();
 }
@@ -146,7 +173,13 @@ void Reconstruction::Internals::Resampler::CountSegments()
   const Internals& in = this->In;
   const int ne = static_cast<int>(in.EdgeKinds.size());
   this->Segments.assign(ne, this->Options.SubdivisionLevel);
-  if (this->Options.TargetEdgeLength > 0.0)
+  this->Needed.clear();
+  this->InverseTolerance.clear();
+  if (this->Options.TargetEdgeLength <= 0.0 && this->Options.DisplayTolerance > 0.0)
+  {
+    this->ChooseAdaptiveLevels();
+  }
+  else if (this->Options.TargetEdgeLength > 0.0)
   {
     for (int e = 0; e < ne; ++e)
     {
@@ -158,6 +191,262 @@ void Reconstruction::Internals::Resampler::CountSegments()
         std::min(static_cast<double>(this->Options.MaximumSubdivisionLevel), std::max(1.0, n)));
     }
   }
+}
+
+//------------------------------------------------------------------------------
+// The level each triangle needs for DisplayTolerance, and each edge the larger
+// of its triangles': an edge split more finely than one side needs only adds
+// points to that side's strip, while a coarser one would leave the other
+// side's strip beyond the tolerance.
+void Reconstruction::Internals::Resampler::ChooseAdaptiveLevels()
+{
+  const Internals& in = this->In;
+  const int nt = in.Mesh.GetNumberOfTriangles();
+  const int nc = this->NC;
+  const int maximum = this->Options.MaximumSubdivisionLevel;
+  // The receiver's area-weighted mean per channel: the display's error is
+  // judged against what the surface shows, so a dim surface is cut as finely
+  // as a bright one for the same relative error.
+  std::vector<double> mean(nc, 0.0);
+  double area = 0.0;
+  for (int t = 0; t < nt; ++t)
+  {
+    const int* tri = in.T(t);
+    const double a = std::abs(in.Geometry[t].Area2);
+    area += a;
+    for (int c = 0; c < nc; ++c)
+    {
+      mean[c] += a *
+        (std::abs(in.Value(tri[0], c)) + std::abs(in.Value(tri[1], c)) +
+          std::abs(in.Value(tri[2], c))) /
+        3.0;
+    }
+  }
+  this->InverseTolerance.assign(nc, 0.0);
+  bool any = false;
+  for (int c = 0; c < nc; ++c)
+  {
+    const double tolerance = area > 0.0 ? this->Options.DisplayTolerance * mean[c] / area : 0.0;
+    if (tolerance > 0.0 && std::isfinite(tolerance))
+    {
+      this->InverseTolerance[c] = 1.0 / tolerance;
+      any = true;
+    }
+  }
+  this->Needed.assign(nt, 1);
+  if (!this->Cubic || !any)
+  {
+    this->InverseTolerance.clear(); // nothing to test
+  }
+  else
+  {
+    this->Nets.resize(nc);
+    this->Value.resize(nc);
+    for (int t = 0; t < nt; ++t)
+    {
+      for (int c = 0; c < nc; ++c)
+      {
+        in.ComputeNet(t, c, this->Nets[c]);
+      }
+      // The error of linear interpolation falls as 1 / n^2, so the next
+      // level tried is the one that would just pass.
+      int n = 1;
+      for (double d = this->Deviation(t, n); d > 1.0 && n < maximum; d = this->Deviation(t, n))
+      {
+        const double guess = std::ceil(n * std::sqrt(d) * (1.0 - 1e-12));
+        n = std::min(maximum, std::max(n + 1, static_cast<int>(std::min(guess, 1024.0))));
+      }
+      this->Needed[t] = n;
+    }
+  }
+  // Linear mode: the display is the interpolant itself.
+  this->CountEdgesFromLevels();
+}
+
+//------------------------------------------------------------------------------
+void Reconstruction::Internals::Resampler::CountEdgesFromLevels()
+{
+  const Internals& in = this->In;
+  const int ne = static_cast<int>(in.EdgeKinds.size());
+  for (int e = 0; e < ne; ++e)
+  {
+    int n = 1;
+    for (int side = 0; side < 2; ++side)
+    {
+      const int corner = in.EdgeSides[2 * e + side];
+      if (corner >= 0)
+      {
+        n = std::max(n, this->Needed[corner / 3]);
+      }
+    }
+    this->Segments[e] = n;
+  }
+}
+
+//------------------------------------------------------------------------------
+// The largest |interpolant - display| over the regular level-n subdivision of
+// triangle t (nets already computed), in units of the tolerance.
+double Reconstruction::Internals::Resampler::Deviation(int t, int n)
+{
+  const Internals& in = this->In;
+  const int nc = this->NC;
+  const double step = 1.0 / n;
+  // The interpolant at the lattice points (a, b): barycentrics ((n-a-b)/n, a/n, b/n).
+  const int stride = n + 1;
+  this->LatticeValues.resize(static_cast<std::size_t>(stride) * stride * nc);
+  auto at = [&](int a, int b) {
+    return this->LatticeValues.data() + (static_cast<std::size_t>(a) * stride + b) * nc;
+  };
+  auto bary = [&](int a, int b, double* out) {
+    out[0] = (n - a - b) * step;
+    out[1] = a * step;
+    out[2] = b * step;
+  };
+  for (int a = 0; a <= n; ++a)
+  {
+    for (int b = 0; a + b <= n; ++b)
+    {
+      double corner[3];
+      bary(a, b, corner);
+      in.EvaluateWithNets(t, this->Nets.data(), corner, at(a, b), nullptr);
+    }
+  }
+  double worst = 0.0;
+  double corners[3][3];
+  for (int a = 0; a < n; ++a)
+  {
+    for (int b = 0; a + b < n; ++b)
+    {
+      bary(a, b, corners[0]);
+      bary(a + 1, b, corners[1]);
+      bary(a, b + 1, corners[2]);
+      worst = std::max(worst, this->PieceDeviation(t, corners, { at(a, b), at(a + 1, b), at(a, b + 1) }));
+      if (a + b + 1 < n)
+      {
+        bary(a + 1, b + 1, corners[0]);
+        worst = std::max(worst,
+          this->PieceDeviation(t, corners, { at(a + 1, b + 1), at(a + 1, b), at(a, b + 1) }));
+      }
+    }
+  }
+  return worst;
+}
+
+//------------------------------------------------------------------------------
+// The largest |interpolant - display| over one display triangle inside input
+// triangle t (corner barycentrics b, display values p), in units of the
+// tolerance: at the points of its own level-4 lattice other than its corners.
+// Its edge midpoints and centroid alone miss the peaks of the element's three
+// cubic pieces.
+double Reconstruction::Internals::Resampler::PieceDeviation(
+  int t, const double (&b)[3][3], const std::array<const double*, 3>& p)
+{
+  const int nc = this->NC;
+  double* value = this->Value.data();
+  const double* inverse = this->InverseTolerance.data();
+  double worst = 0.0;
+  for (int i = 0; i <= 4; ++i)
+  {
+    for (int j = 0; i + j <= 4; ++j)
+    {
+      const int k = 4 - i - j;
+      if (i == 4 || j == 4 || k == 4)
+      {
+        continue;
+      }
+      const double w[3] = { 0.25 * i, 0.25 * j, 0.25 * k };
+      double x[3];
+      for (int d = 0; d < 3; ++d)
+      {
+        x[d] = w[0] * b[0][d] + w[1] * b[1][d] + w[2] * b[2][d];
+      }
+      this->In.EvaluateWithNets(t, this->Nets.data(), x, value, nullptr);
+      for (int c = 0; c < nc; ++c)
+      {
+        const double shown = w[0] * p[0][c] + w[1] * p[1][c] + w[2] * p[2][c];
+        worst = std::max(worst, std::abs(value[c] - shown) * inverse[c]);
+      }
+    }
+  }
+  return worst;
+}
+
+//------------------------------------------------------------------------------
+// The output's triangles checked against the tolerance; the level of every
+// input triangle holding one beyond it is raised (with the counts of its
+// edges). The irregular layout of a triangle whose edges differ is coarser
+// than the regular one its level was chosen with (near its corners the strips
+// reach two lattice steps inward), so some need one more round. Returns
+// whether a level was raised.
+bool Reconstruction::Internals::Resampler::RaiseFailingLevels()
+{
+  const Internals& in = this->In;
+  const ResampledMesh& out = this->Output;
+  const int nc = this->NC;
+  const int maximum = this->Options.MaximumSubdivisionLevel;
+  const int no = out.GetNumberOfTriangles();
+  bool raised = false;
+  for (int o = 0; o < no;)
+  {
+    const int t = out.SourceTriangle[o];
+    int end = o;
+    while (end < no && out.SourceTriangle[end] == t)
+    {
+      ++end;
+    }
+    const int n = this->Needed[t];
+    bool tested = true; // the regular layout its level was tested with
+    for (int k = 0; k < 3; ++k)
+    {
+      tested = tested && this->Segments[in.TriangleEdge[3 * t + k]] == n;
+    }
+    if (n >= maximum || tested)
+    {
+      o = end;
+      continue;
+    }
+    for (int c = 0; c < nc; ++c)
+    {
+      in.ComputeNet(t, c, this->Nets[c]);
+    }
+    double worst = 0.0;
+    for (; o < end; ++o)
+    {
+      double b[3][3];
+      std::array<const double*, 3> p;
+      for (int i = 0; i < 3; ++i)
+      {
+        const int q = out.Triangles[3 * o + i];
+        in.Barycentric(t, out.Points[2 * q], out.Points[2 * q + 1], b[i]);
+        p[i] = out.Values.data() + static_cast<std::size_t>(q) * nc;
+      }
+      worst = std::max(worst, this->PieceDeviation(t, b, p));
+    }
+    if (worst > 1.0)
+    {
+      const double guess = std::ceil(n * std::sqrt(worst) * (1.0 - 1e-12));
+      this->Needed[t] = std::min(maximum, std::max(n + 1, static_cast<int>(std::min(guess, 1024.0))));
+      raised = true;
+    }
+  }
+  return raised;
+}
+
+//------------------------------------------------------------------------------
+// The lattice level of triangle t whose edges get n[0..2] segments: the
+// common count when they agree (regular subdivision); otherwise at least 3,
+// so that the inner lattice has a point, and the level the triangle itself
+// needs with DisplayTolerance (its strips take the finer edges), else the
+// finest edge.
+int Reconstruction::Internals::Resampler::InnerLevel(int t, const int n[3], bool& regular) const
+{
+  regular = n[0] == n[1] && n[1] == n[2];
+  if (regular)
+  {
+    return n[0];
+  }
+  const int finest = std::max(n[0], std::max(n[1], n[2]));
+  return std::max(3, this->Needed.empty() ? finest : this->Needed[t]);
 }
 
 //------------------------------------------------------------------------------
@@ -177,20 +466,20 @@ void Reconstruction::Internals::Resampler::Reserve()
   }
   for (int t = 0; t < nt; ++t)
   {
-    const int n0 = segments[in.TriangleEdge[3 * t]];
-    const int n1 = segments[in.TriangleEdge[3 * t + 1]];
-    const int n2 = segments[in.TriangleEdge[3 * t + 2]];
-    const std::size_t s = static_cast<std::size_t>(std::max(n0, std::max(n1, n2)));
-    if (n0 == n1 && n1 == n2)
+    const int n[3] = { segments[in.TriangleEdge[3 * t]], segments[in.TriangleEdge[3 * t + 1]],
+      segments[in.TriangleEdge[3 * t + 2]] };
+    bool regular = false;
+    const std::size_t s = static_cast<std::size_t>(this->InnerLevel(t, n, regular));
+    if (regular)
     {
       points += (s - 1) * (s - 2) / 2 + 3;
       triangles += s * s;
     }
     else
     {
-      const std::size_t m = std::max<std::size_t>(s, 3) - 3;
+      const std::size_t m = s - 3;
       points += (m + 1) * (m + 2) / 2 + 3;
-      triangles += m * m + static_cast<std::size_t>(n0 + n1 + n2) + 3 * m;
+      triangles += m * m + static_cast<std::size_t>(n[0] + n[1] + n[2]) + 3 * m;
     }
   }
   output.Points.reserve(2 * points);
@@ -338,8 +627,8 @@ void Reconstruction::Internals::Resampler::SubdivideTriangle(int t)
   {
     n[k] = this->Segments[in.TriangleEdge[3 * t + k]];
   }
-  const bool regular = n[0] == n[1] && n[1] == n[2];
-  const int s = regular ? n[0] : std::max(3, std::max(n[0], std::max(n[1], n[2])));
+  bool regular = false;
+  const int s = this->InnerLevel(t, n, regular);
   this->T = t;
   this->S = s;
   this->Lattice.assign(static_cast<std::size_t>((s + 1) * (s + 2) / 2), -1);

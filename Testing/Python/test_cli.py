@@ -122,14 +122,15 @@ def test_scene_command_writes_the_validated_scene(tmp_path):
 
 
 def test_set_changes_a_solver_setting(tmp_path):
-    """--set reaches the solver: direct light only gives no shots, and
-    SubdivisionLevel 1 fewer output points than the default 2."""
+    """--set reaches the solver: direct light only gives no shots, and the
+    adaptive display at DisplayTolerance 0.05 fewer output points than the
+    default uniform one."""
     default = tmp_path / "default.vtp"
     coarse = tmp_path / "coarse.vtp"
     assert run_penumbra("solve", "occluder", "-o", default, "--quiet",
                         "--set", "Indirect=off").returncode == 0
     assert run_penumbra("solve", "occluder", "-o", coarse, "--quiet", "--set", "indirect=off",
-                        "--set", "SubdivisionLevel=1").returncode == 0
+                        "--set", "DisplayTolerance=0.05").returncode == 0
     assert _read_vtp(default).GetFieldData().GetArray("Shots") is None
     assert _read_vtp(coarse).GetNumberOfPoints() < _read_vtp(default).GetNumberOfPoints()
 

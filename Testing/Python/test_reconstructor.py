@@ -9,7 +9,9 @@ from vtkmodules.vtkCommonDataModel import vtkPolyData
 import penumbra
 
 
-def direct_pipeline(scene_name, mode=None, minimum_angle=20.0, level=3):
+def direct_pipeline(scene_name, mode=None, minimum_angle=20.0, level=3, tolerance=0.0):
+    """The direct light of a built-in scene, reconstructed (uniformly at
+    `level` with the default tolerance 0, else adaptively)."""
     source = penumbra.vtkPenumbraSceneSource()
     source.SetSceneName(scene_name)
     mesher = penumbra.vtkPenumbraDiscontinuityMesher()
@@ -21,6 +23,7 @@ def direct_pipeline(scene_name, mode=None, minimum_angle=20.0, level=3):
     reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
     reconstructor.SetInputConnection(evaluator.GetOutputPort())
     reconstructor.SetSubdivisionLevel(level)
+    reconstructor.SetDisplayTolerance(tolerance)
     if mode is not None:
         reconstructor.SetMode(mode)
     return penumbra.run_filter(reconstructor), evaluator, source
@@ -97,7 +100,105 @@ def test_settings_clamp_and_print():
     reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
     reconstructor.SetSubdivisionLevel(1000)
     assert reconstructor.GetSubdivisionLevel() == 64
+    reconstructor.SetDisplayTolerance(5)
+    assert reconstructor.GetDisplayTolerance() == 1
     text = str(reconstructor)
-    for setting in ("Mode: CLOUGH_TOCHER", "SubdivisionLevel: 64", "TargetEdgeLength",
+    for setting in ("Mode: CLOUGH_TOCHER", "SubdivisionLevel: 64", "DisplayTolerance: 1",
+                    "TargetEdgeLength",
                     "EnforceNonNegativity: On", "ComputeErrorEstimate: On"):
         assert setting in text
+
+
+def _triangles(out):
+    """Output triangles (point ids) and their surface ids."""
+    lines = out.GetNumberOfLines()
+    triangles = vtk_to_numpy(out.GetPolys().GetData()).reshape(-1, 4)[:, 1:]
+    surfaces = vtk_to_numpy(out.GetCellData().GetArray("SurfaceId"))[lines:]
+    return triangles, surfaces
+
+
+def _boundary_length(out):
+    """Per surface: the total length of the edges used by one triangle, and the
+    number of edges used by more than two."""
+    triangles, surfaces = _triangles(out)
+    xyz = vtk_to_numpy(out.GetPoints().GetData()).astype(float)
+    result = {}
+    for surface in np.unique(surfaces):
+        mine = triangles[surfaces == surface]
+        edges = np.sort(np.concatenate([mine[:, [0, 1]], mine[:, [1, 2]], mine[:, [2, 0]]]),
+                        axis=1)
+        unique, counts = np.unique(edges, axis=0, return_counts=True)
+        once = unique[counts == 1]
+        length = np.linalg.norm(xyz[once[:, 0]] - xyz[once[:, 1]], axis=1).sum()
+        result[int(surface)] = (length, int((counts > 2).sum()))
+    return result
+
+
+def _floor_deviation(out, dense, mean):
+    """The largest |display - cubic| on the floor (surface 0) relative to
+    `mean`: at 3,000 random vertices of a dense uniform output, whose values are
+    the cubic's there, the display of `out` linear over its triangles."""
+    from vtkmodules.vtkCommonDataModel import (vtkCellArray, vtkGenericCell,
+                                               vtkStaticCellLocator)
+    from vtkmodules.util.numpy_support import numpy_to_vtkIdTypeArray
+
+    triangles, surfaces = _triangles(out)
+    floor = vtkPolyData()
+    floor.SetPoints(out.GetPoints())
+    cells = np.hstack([np.full((int((surfaces == 0).sum()), 1), 3),
+                       triangles[surfaces == 0]]).astype(np.int64).ravel()
+    polys = vtkCellArray()
+    polys.SetCells(len(cells) // 4, numpy_to_vtkIdTypeArray(cells, deep=True))
+    floor.SetPolys(polys)
+    locator = vtkStaticCellLocator()
+    locator.SetDataSet(floor)
+    locator.BuildLocator()
+    radiance = vtk_to_numpy(out.GetPointData().GetArray("Radiance")).astype(float)
+    dense_triangles, dense_surfaces = _triangles(dense)
+    candidates = np.unique(dense_triangles[dense_surfaces == 0])
+    chosen = np.random.default_rng(3).choice(candidates, size=3000, replace=False)
+    dense_xyz = vtk_to_numpy(dense.GetPoints().GetData()).astype(float)
+    cubic = vtk_to_numpy(dense.GetPointData().GetArray("Radiance")).astype(float)
+    cell, pcoords, weights = vtkGenericCell(), [0.0] * 3, [0.0] * 8
+    worst = 0.0
+    for k in chosen:
+        found = locator.FindCell(list(dense_xyz[k]), 1e-9, cell, pcoords, weights)
+        assert found >= 0
+        shown = sum(weights[n] * radiance[cell.GetPointId(n)] for n in range(3))
+        worst = max(worst, float(np.max(np.abs(shown - cubic[k]) / mean)))
+    return worst
+
+
+def test_adaptive_display_is_watertight_and_within_tolerance():
+    """DisplayTolerance: every surface as watertight as its sample mesh (the same
+    outline, no edge used by three triangles), the boundary lines carried
+    through, the arrays of the contract, and the display within the tolerance
+    of the cubic at independent points, a smaller tolerance giving no larger
+    deviation."""
+    samples, evaluator, _ = direct_pipeline("occluder", level=1)
+    dense, _, _ = direct_pipeline("occluder", level=8)
+    outline = _boundary_length(samples)
+    # The floor's mean, area-weighted over the sample triangles.
+    triangles, surfaces = _triangles(samples)
+    xyz = vtk_to_numpy(samples.GetPoints().GetData()).astype(float)
+    radiance = vtk_to_numpy(samples.GetPointData().GetArray("Radiance")).astype(float)
+    floor = triangles[surfaces == 0]
+    a, b, c = (xyz[floor[:, k]] for k in range(3))
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    mean = (area[:, None] * radiance[floor].mean(axis=1)).sum(axis=0) / area.sum()
+    previous = (np.inf, 0)
+    for tolerance in (0.02, 0.005):
+        out, _, _ = direct_pipeline("occluder", tolerance=tolerance)
+        for surface, (length, overused) in _boundary_length(out).items():
+            assert overused == 0
+            assert length == pytest.approx(outline[surface][0], rel=1e-9)
+        assert out.GetNumberOfLines() == samples.GetNumberOfLines()
+        for name in ("Radiance", "Irradiance", "RadianceErrorEstimate"):
+            values = vtk_to_numpy(out.GetPointData().GetArray(name))
+            assert values.shape == (out.GetNumberOfPoints(), 3) and values.min() >= 0
+        deviation = _floor_deviation(out, dense, mean)
+        assert deviation <= 1.05 * tolerance
+        assert deviation <= previous[0] and out.GetNumberOfPolys() >= previous[1]
+        previous = (deviation, out.GetNumberOfPolys())
+    # Coarser than the dense display, finer than the samples.
+    assert samples.GetNumberOfPolys() < previous[1] < dense.GetNumberOfPolys()

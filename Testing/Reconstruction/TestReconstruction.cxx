@@ -331,6 +331,7 @@ PENUMBRA_TEST(TestQuadraticExact)
     // Resampled values are exact too.
     ResampleOptions ro;
     ro.SubdivisionLevel = 3;
+    ro.DisplayTolerance = 0.0; // uniform
     ResampledMesh out;
     cubicQ.Resample(ro, out);
     double maxR = 0.0;
@@ -639,6 +640,7 @@ PENUMBRA_TEST(TestJump)
   r.Build(mesh);
   ResampleOptions ro;
   ro.SubdivisionLevel = 3;
+  ro.DisplayTolerance = 0.0; // uniform
   ResampledMesh out;
   r.Resample(ro, out);
   int onLine = 0;
@@ -801,6 +803,7 @@ PENUMBRA_TEST(TestNonNegativity)
       double lowest = 0.0;
       ResampleOptions ro;
       ro.SubdivisionLevel = 6;
+      ro.DisplayTolerance = 0.0; // uniform
       ro.ComputeErrorEstimate = false;
       ResampledMesh out;
       r.Resample(ro, out);
@@ -1089,6 +1092,7 @@ PENUMBRA_TEST(TestResample)
   // Level 1 returns the input triangles and values.
   ResampleOptions ro;
   ro.SubdivisionLevel = 1;
+  ro.DisplayTolerance = 0.0; // uniform
   ResampledMesh out;
   r.Resample(ro, out);
   PENUMBRA_EXPECT(out.GetNumberOfTriangles() == mesh.GetNumberOfTriangles());
@@ -1185,6 +1189,194 @@ PENUMBRA_TEST(TestResample)
 }
 
 //------------------------------------------------------------------------------
+// Per-point `values` (channel c of NumberOfChannels), linear over the output
+// triangle of [begin, end) that holds (u, v).
+double LinearOnOutput(const ResampledMesh& out, const std::vector<double>& values, int begin,
+  int end, double u, double v, int c)
+{
+  const int nc = out.NumberOfChannels;
+  double best = -1e300, shown = 0.0;
+  for (int o = begin; o < end; ++o)
+  {
+    const int* tri = &out.Triangles[3 * o];
+    const double* p0 = &out.Points[2 * tri[0]];
+    const double* p1 = &out.Points[2 * tri[1]];
+    const double* p2 = &out.Points[2 * tri[2]];
+    const double area = (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]);
+    const double l1 = ((p2[0] - p0[0]) * (p0[1] - v) - (p2[1] - p0[1]) * (p0[0] - u)) / area;
+    const double l2 = ((p0[0] - u) * (p1[1] - p0[1]) - (p0[1] - v) * (p1[0] - p0[0])) / area;
+    const double l0 = 1.0 - l1 - l2;
+    const double lowest = std::min(l0, std::min(l1, l2));
+    if (lowest > best)
+    {
+      best = lowest;
+      shown = l0 * values[tri[0] * nc + c] + l1 * values[tri[1] * nc + c] +
+        l2 * values[tri[2] * nc + c];
+    }
+  }
+  return shown;
+}
+
+// The largest |interpolant - display| at `count` random points, relative to
+// the area-weighted mean of the samples (per channel, largest channel).
+double DisplayDeviation(const Reconstruction& r, const ResampledMesh& out, int count)
+{
+  const SampleMesh& m = r.GetMesh();
+  const int nt = m.GetNumberOfTriangles();
+  const int nc = m.NumberOfChannels;
+  std::vector<int> first(nt + 1, 0);
+  for (int o = 0; o < out.GetNumberOfTriangles(); ++o)
+  {
+    ++first[out.SourceTriangle[o] + 1];
+  }
+  for (int t = 0; t < nt; ++t)
+  {
+    first[t + 1] += first[t];
+  }
+  std::vector<double> mean(nc, 0.0);
+  double area = 0.0;
+  for (int t = 0; t < nt; ++t)
+  {
+    const int* tri = &m.Triangles[3 * t];
+    const double* a = &m.Points[2 * tri[0]];
+    const double* b = &m.Points[2 * tri[1]];
+    const double* c = &m.Points[2 * tri[2]];
+    const double w = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    area += w;
+    for (int j = 0; j < nc; ++j)
+    {
+      mean[j] += w * (m.Values[tri[0] * nc + j] + m.Values[tri[1] * nc + j] +
+                       m.Values[tri[2] * nc + j]) / 3.0;
+    }
+  }
+  std::mt19937_64 rng(5);
+  std::vector<double> value(nc);
+  double worst = 0.0;
+  for (int i = 0; i < count; ++i)
+  {
+    int t;
+    double b[3], u, v;
+    RandomTrianglePoint(rng, nt, t, b);
+    PointOf(m, t, b, u, v);
+    r.Evaluate(t, b, value.data());
+    for (int j = 0; j < nc; ++j)
+    {
+      const double d = std::abs(value[j] - LinearOnOutput(out, out.Values, first[t], first[t + 1], u, v, j)) / (mean[j] / area);
+      worst = std::max(worst, d);
+    }
+  }
+  return worst;
+}
+
+// DisplayTolerance: no cracks, the constrained edges carried through, the
+// display within the tolerance of the interpolant at independent points, and
+// a smaller tolerance never giving a larger deviation or a smaller output.
+PENUMBRA_TEST(TestAdaptiveResample)
+{
+  std::printf("-- adaptive resampling\n");
+  // A bump the 12 x 12 grid resolves coarsely on one side of a cut, a gentle
+  // slope on the other, with a second channel ten times dimmer.
+  const Field bump = [](double u, double v, double* out) {
+    out[0] = 1.0 + 4.0 * std::exp(-((u - 0.7) * (u - 0.7) + (v - 0.5) * (v - 0.5)) / 0.02);
+    out[1] = 0.1 * (1.0 + u * v);
+  };
+  GridSpec spec;
+  spec.Us = SplitColumns(0.4, 5, 7, &spec.LineColumn);
+  spec.Rows = 12;
+  spec.Cut = true;
+  spec.Jitter = 0.3;
+  spec.Channels = 2;
+  spec.ExtraLines = { 8 };
+  const SampleMesh mesh = MakeGrid(spec, bump, bump);
+  Reconstruction r;
+  r.Build(mesh);
+  const int nt = mesh.GetNumberOfTriangles();
+  ResampleOptions ro;
+  ResampledMesh out;
+  ro.DisplayTolerance = 0.0;
+  ro.SubdivisionLevel = 2;
+  r.Resample(ro, out);
+  PENUMBRA_EXPECT(out.GetNumberOfTriangles() == 4 * nt);
+  const double uniform = DisplayDeviation(r, out, 20000);
+  std::printf("uniform level 2: %d triangles, largest deviation %.3g of the mean\n",
+    out.GetNumberOfTriangles(), uniform);
+
+  const double tolerances[] = { 0.03, 0.01, 0.003, 0.001, 0.0003 };
+  double previous = 1e300;
+  int previousTriangles = 0;
+  bool monotone = true, within = true;
+  for (double tolerance : tolerances)
+  {
+    ro.DisplayTolerance = tolerance;
+    r.Resample(ro, out);
+    char what[64];
+    std::snprintf(what, sizeof(what), "display tolerance %g", tolerance);
+    CheckResampledMesh(mesh, out, what);
+    const double deviation = DisplayDeviation(r, out, 20000);
+    double lowest = 1e300;
+    for (double x : out.Values)
+    {
+      lowest = std::min(lowest, x);
+    }
+    std::printf("display tolerance %g: %d triangles, largest deviation %.3g of the mean "
+                "(%.2f of the tolerance), smallest value %.3g\n",
+      tolerance, out.GetNumberOfTriangles(), deviation, deviation / tolerance, lowest);
+    PENUMBRA_EXPECT(lowest >= 0.0);
+    within = within && deviation <= tolerance;
+    monotone = monotone && deviation <= previous && out.GetNumberOfTriangles() >= previousTriangles;
+    previous = deviation;
+    previousTriangles = out.GetNumberOfTriangles();
+    // Each constrained edge: a polyline of output points along it, from its
+    // first sample to its second, as many segments as the edge got.
+    bool linesOk = out.LineOffsets.size() == mesh.EdgeOrders.size() + 1;
+    for (std::size_t e = 0; linesOk && e < mesh.EdgeOrders.size(); ++e)
+    {
+      const int a = mesh.ConstrainedEdges[2 * e], b = mesh.ConstrainedEdges[2 * e + 1];
+      const int begin = out.LineOffsets[e], end = out.LineOffsets[e + 1];
+      linesOk = end - begin >= 2 && out.SourcePoint[out.LinePoints[begin]] == a &&
+        out.SourcePoint[out.LinePoints[end - 1]] == b;
+      const double eu = mesh.Points[2 * b] - mesh.Points[2 * a];
+      const double ev = mesh.Points[2 * b + 1] - mesh.Points[2 * a + 1];
+      double last = -1.0;
+      for (int j = begin; linesOk && j < end; ++j)
+      {
+        const double* x = &out.Points[2 * out.LinePoints[j]];
+        const double du = x[0] - mesh.Points[2 * a], dv = x[1] - mesh.Points[2 * a + 1];
+        const double along = (du * eu + dv * ev) / (eu * eu + ev * ev);
+        linesOk = std::abs(du * ev - dv * eu) < 1e-12 && along > last;
+        last = along;
+      }
+    }
+    PENUMBRA_EXPECT(linesOk);
+  }
+  std::printf("within the tolerance: %s, monotone: %s\n", within ? "yes" : "NO",
+    monotone ? "yes" : "NO");
+  PENUMBRA_EXPECT(within);
+  PENUMBRA_EXPECT(monotone);
+  // At the tolerance level 2 meets, the output is smaller.
+  ro.DisplayTolerance = uniform;
+  r.Resample(ro, out);
+  const double adaptive = DisplayDeviation(r, out, 20000);
+  std::printf("display tolerance %.3g (level 2's deviation): %d triangles, largest deviation "
+              "%.3g\n",
+    uniform, out.GetNumberOfTriangles(), adaptive);
+  PENUMBRA_EXPECT(out.GetNumberOfTriangles() < 4 * nt);
+  // The tolerance is tested at a lattice of points in each output triangle;
+  // between them the deviation may exceed it a little.
+  PENUMBRA_EXPECT(adaptive <= 1.05 * uniform);
+
+  // Linear mode: the display is the interpolant, so the input comes back.
+  ReconstructionOptions lo;
+  lo.Mode = ReconstructionMode::Linear;
+  Reconstruction linear;
+  linear.Build(mesh, lo);
+  ro.DisplayTolerance = 0.0003;
+  linear.Resample(ro, out);
+  PENUMBRA_EXPECT(out.GetNumberOfTriangles() == nt);
+  PENUMBRA_EXPECT(out.GetNumberOfPoints() == mesh.GetNumberOfPoints());
+}
+
+//------------------------------------------------------------------------------
 // Estimate vs true error at random points: fraction of points where the
 // estimate is at least the error, and mean(estimate) / mean(error).
 struct Calibration
@@ -1220,6 +1412,7 @@ Calibration Calibrate(const Reconstruction& r, const std::function<double(double
     // covered): the map is meant to be read at a fine display.
     ResampleOptions ro;
     ro.SubdivisionLevel = 4;
+    ro.DisplayTolerance = 0.0; // uniform
     r.Resample(ro, out);
     firstOutput.assign(m.GetNumberOfTriangles() + 1, out.GetNumberOfTriangles());
     for (int t = out.GetNumberOfTriangles() - 1; t >= 0; --t)
@@ -1268,26 +1461,12 @@ Calibration Calibrate(const Reconstruction& r, const std::function<double(double
       case EstimateKind::OutputMap:
       {
         // The output triangle of t containing (u, v): interpolate linearly.
-        double best = -1e300;
-        const int no = out.GetNumberOfTriangles();
-        for (int o = firstOutput[t]; o < no && out.SourceTriangle[o] == t; ++o)
+        int end = firstOutput[t];
+        while (end < out.GetNumberOfTriangles() && out.SourceTriangle[end] == t)
         {
-          const int* tri = &out.Triangles[3 * o];
-          const double* p0 = &out.Points[2 * tri[0]];
-          const double* p1 = &out.Points[2 * tri[1]];
-          const double* p2 = &out.Points[2 * tri[2]];
-          const double area = (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]);
-          const double l1 = ((p2[0] - p0[0]) * (p0[1] - v) - (p2[1] - p0[1]) * (p0[0] - u)) / area;
-          const double l2 = ((p0[0] - u) * (p1[1] - p0[1]) - (p0[1] - v) * (p1[0] - p0[0])) / area;
-          const double l0 = 1.0 - l1 - l2;
-          const double mn = std::min(l0, std::min(l1, l2));
-          if (mn > best)
-          {
-            best = mn;
-            est = l0 * out.ErrorEstimate[tri[0]] + l1 * out.ErrorEstimate[tri[1]] +
-              l2 * out.ErrorEstimate[tri[2]];
-          }
+          ++end;
         }
+        est = LinearOnOutput(out, out.ErrorEstimate, firstOutput[t], end, u, v, 0);
         break;
       }
     }
@@ -1324,6 +1503,7 @@ PENUMBRA_TEST(TestErrorEstimate)
     PENUMBRA_EXPECT(bounds[4] < 1e-10);
     ResampleOptions ro;
     ro.SubdivisionLevel = 2;
+    ro.DisplayTolerance = 0.0; // uniform
     ResampledMesh out;
     r.Resample(ro, out, &probes);
     int raised = 0;
@@ -1473,12 +1653,14 @@ PENUMBRA_TEST(TestBadInput)
   ResampledMesh out;
   r.Build(m);
   PENUMBRA_EXPECT_THROW(r.Resample(ro, out), InputError, "SubdivisionLevel");
+  ro.SubdivisionLevel = 2;
+  ro.DisplayTolerance = -0.1;
+  PENUMBRA_EXPECT_THROW(r.Resample(ro, out), InputError, "DisplayTolerance");
   PENUMBRA_EXPECT_THROW(r.Evaluate(3, b, &val), InputError, "triangle id 3");
   // An empty mesh is fine.
   SampleMesh empty;
   r.Build(empty);
-  ro.SubdivisionLevel = 2;
-  r.Resample(ro, out);
+  r.Resample(ResampleOptions(), out);
   PENUMBRA_EXPECT(out.GetNumberOfPoints() == 0 && out.GetNumberOfTriangles() == 0);
   PENUMBRA_EXPECT(r.FindTriangle(0.0, 0.0) == -1);
 }

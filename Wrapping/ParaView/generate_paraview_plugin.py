@@ -26,7 +26,8 @@ from xml.sax.saxutils import escape, quoteattr
 # keep their defaults.
 SOLVER_SETTINGS = ("Indirect", "UnshotFraction", "SamplingTolerance", "ExactPowerFraction",
                    "MaximumIndirectSamples", "MaximumSamples", "SecondaryShooterFraction",
-                   "ReuseTransport", "MinimumAngle", "SubdivisionLevel")
+                   "ReuseTransport", "MinimumAngle", "DisplayTolerance",
+                   "SubdivisionLevel")
 METHODS = ("discontinuity", "standard")
 
 

@@ -34,7 +34,7 @@ def point_samples(points, surface_id):
 
 
 def build_pipeline(scene_port, minimum_angle=None, subdivision_level=None, indirect=True,
-                   unshot_fraction=None, exact_power_fraction=None):
+                   unshot_fraction=None, exact_power_fraction=None, display_tolerance=None):
     """The filters of the pipeline, connected after `scene_port` (an algorithm
     output port producing a scene), as vtkPenumbraSolver wires them inside
     (settings left None keep the stages' defaults, which are the solver's).
@@ -61,7 +61,8 @@ def build_pipeline(scene_port, minimum_angle=None, subdivision_level=None, indir
     reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
     reconstructor.SetInputConnection(last.GetOutputPort())
     apply_settings(reconstructor, "vtkPenumbraRadianceReconstructor",
-                   {"subdivision_level": subdivision_level})
+                   {"subdivision_level": subdivision_level,
+                    "display_tolerance": display_tolerance})
     stages["reconstructor"] = reconstructor
     return stages
 
