@@ -3,7 +3,7 @@
 """Penumbra's Cornell box against the Mitsuba 3 path-traced reference.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Benchmarks/compare_cornell.py [--runs 3]
-        [--method discontinuity|standard] [--element-size S]
+        [--method discontinuity|standard] [--element-size S] [--quality draft|normal|high]
 
 Solves the built-in Cornell box with penumbra.solve() (median wall time of
 --runs runs), averages the displayed radiance (linear over the output
@@ -88,6 +88,8 @@ def main():
     parser.add_argument("--method", choices=("discontinuity", "standard"), default="discontinuity")
     parser.add_argument("--element-size", type=float, default=None,
                         help="--method standard: initial element size relative to the scene")
+    parser.add_argument("--quality", choices=("draft", "normal", "high"), default=None,
+                        help="a preset of `penumbra solve --quality` (discontinuity method)")
     parser.add_argument("--reference", default=os.path.join(HERE, "reference", "cornell_reference.npz"))
     parser.add_argument("--out", default=os.path.join(os.path.dirname(HERE), "build", "benchmarks"))
     args = parser.parse_args()
@@ -96,7 +98,8 @@ def main():
     for _ in range(args.runs):
         start = time.perf_counter()
         settings = {} if args.element_size is None else {"element_size": args.element_size}
-        result = penumbra.solve("cornell", threads=args.threads, method=args.method, **settings)
+        result = penumbra.solve("cornell", threads=args.threads, method=args.method,
+                                quality=args.quality, **settings)
         times.append(time.perf_counter() - start)
     print("solve time: median %.2f s over %d runs (min %.2f, max %.2f), %d threads"
           % (statistics.median(times), len(times), min(times), max(times), args.threads))
