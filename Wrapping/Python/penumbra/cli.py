@@ -254,7 +254,8 @@ def _in_range(setting):
 
 # The presets' measured cost and accuracy (Benchmarks/compare_cornell.py --quality;
 # figures in Documentation/benchmarks.md).
-QUALITY_MEASURED = "draft ?, normal ?, high ?"
+QUALITY_MEASURED = ("draft 8.1 s, floor 0.64% RMS; normal 12.7 s, 0.46%; high 19.3 s, 0.42% "
+                    "against a path-traced reference")
 
 
 def build_parser():
@@ -306,7 +307,7 @@ def build_parser():
                         for name, values in QUALITY_PRESETS.items())
     solve.add_argument("--quality", choices=tuple(QUALITY_PRESETS), default=None,
                        help="a preset trading time for accuracy (%s). On the Cornell box "
-                            "(2 cores): %s" % (presets, QUALITY_MEASURED))
+                            "(2 cores): %s" % (presets, QUALITY_MEASURED.replace("%", "%%")))
     solve.add_argument("--tolerance", type=_in_range(tolerance), default=None, metavar="T",
                        help="the adaptive sampling tolerance, relative to each surface's "
                             "light (SamplingTolerance), in %s (default %s); smaller is more "
