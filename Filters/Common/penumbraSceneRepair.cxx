@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 #include <unordered_map>
+#include <utility>
 
 namespace penumbra
 {
@@ -91,6 +92,9 @@ public:
     return id;
   }
 
+  /// The clusters' positions, by cluster id (moved by AxisPlaneSnapping).
+  std::vector<Vec3> Points;
+
 private:
   std::int64_t CellOf(double x) const
   {
@@ -111,7 +115,6 @@ private:
 
   double Tolerance;
   std::size_t NonFinite = 0;
-  std::vector<Vec3> Points;
   std::set<std::array<double, 3>> Moved;
   std::unordered_map<std::uint64_t, std::vector<int>> Cells;
 };
@@ -133,11 +136,123 @@ std::vector<int> CanonicalOutline(const std::vector<int>& ids)
   return out;
 }
 
+/**
+ * Snaps coordinates onto the axis-aligned planes the scene is built on.
+ * Single-precision exports leave a floor's corners 1e-7 off its plane and a
+ * box's base 1e-7 above or below the floor; the pipeline needs such contacts
+ * exact. For each axis, the polygons whose vertices all lie within the
+ * tolerance of one value of that coordinate are grouped by that value (the
+ * first such polygon in input order gives it); every vertex within the
+ * tolerance of a group's value, inside one of its polygons' bounding
+ * rectangles, takes the value. Exact scenes are left as they are.
+ */
+void SnapToAxisPlanes(std::vector<Vec3>& points, const std::vector<std::vector<int>>& polygons,
+  double tolerance, RepairReport& report)
+{
+  if (!(tolerance > 0.0) || points.empty())
+  {
+    return;
+  }
+  std::set<int> moved;
+  for (int k = 0; k < 3; ++k)
+  {
+    const int a = (k + 1) % 3;
+    const int b = (k + 2) % 3;
+    struct Planar
+    {
+      double Value;
+      std::size_t Polygon;
+      double Lo[2], Hi[2];
+    };
+    std::vector<Planar> planar;
+    for (std::size_t i = 0; i < polygons.size(); ++i)
+    {
+      const std::vector<int>& ids = polygons[i];
+      if (ids.size() < 3 || *std::min_element(ids.begin(), ids.end()) < 0)
+      {
+        continue;
+      }
+      const double value = points[ids[0]][k];
+      Planar entry{ value, i, { points[ids[0]][a], points[ids[0]][b] },
+        { points[ids[0]][a], points[ids[0]][b] } };
+      bool flat = true;
+      for (int id : ids)
+      {
+        const Vec3& p = points[id];
+        flat = flat && std::abs(p[k] - value) <= tolerance;
+        entry.Lo[0] = std::min(entry.Lo[0], p[a]);
+        entry.Hi[0] = std::max(entry.Hi[0], p[a]);
+        entry.Lo[1] = std::min(entry.Lo[1], p[b]);
+        entry.Hi[1] = std::max(entry.Hi[1], p[b]);
+      }
+      if (flat)
+      {
+        planar.push_back(entry);
+      }
+    }
+    std::sort(planar.begin(), planar.end(), [](const Planar& x, const Planar& y) {
+      return x.Value < y.Value || (x.Value == y.Value && x.Polygon < y.Polygon);
+    });
+    std::vector<int> order(points.size());
+    for (std::size_t i = 0; i < order.size(); ++i)
+    {
+      order[i] = static_cast<int>(i);
+    }
+    std::sort(order.begin(), order.end(),
+      [&points, k](int x, int y) { return points[x][k] < points[y][k]; });
+    for (std::size_t first = 0; first < planar.size();)
+    {
+      std::size_t last = first + 1;
+      while (last < planar.size() && planar[last].Value - planar[first].Value <= tolerance)
+      {
+        ++last;
+      }
+      const auto earliest = std::min_element(planar.begin() + first, planar.begin() + last,
+        [](const Planar& x, const Planar& y) { return x.Polygon < y.Polygon; });
+      const double value = earliest->Value;
+      const auto begin = std::lower_bound(order.begin(), order.end(), value - tolerance,
+        [&points, k](int id, double v) { return points[id][k] < v; });
+      std::vector<std::pair<int, double>> snaps;
+      for (auto it = begin; it != order.end() && points[*it][k] <= value + tolerance; ++it)
+      {
+        const Vec3& p = points[*it];
+        if (p[k] == value)
+        {
+          continue;
+        }
+        for (std::size_t g = first; g < last; ++g)
+        {
+          const Planar& r = planar[g];
+          if (p[a] >= r.Lo[0] - tolerance && p[a] <= r.Hi[0] + tolerance &&
+            p[b] >= r.Lo[1] - tolerance && p[b] <= r.Hi[1] + tolerance)
+          {
+            snaps.emplace_back(*it, value);
+            break;
+          }
+        }
+      }
+      for (const auto& snap : snaps)
+      {
+        Vec3& p = points[snap.first];
+        report.LargestSnapDistance = std::max(report.LargestSnapDistance, std::abs(p[k] - snap.second));
+        p[k] = snap.second;
+        moved.insert(snap.first);
+      }
+      first = last;
+      // The order by this coordinate may have changed: only within the
+      // tolerance band just snapped, which later groups (further than the
+      // tolerance) do not reach.
+    }
+  }
+  report.SnappedVertices = moved.size();
+}
+
 } // namespace
 
 bool RepairReport::Empty() const
 {
-  return this->WeldedVertices == 0 && this->RepeatedVertexPolygons == 0 &&
+  return this->WeldedVertices == 0 && this->SnappedVertices == 0 &&
+    this->RepeatedVertexPolygons == 0 &&
     this->NonPlanarPolygons == 0 && this->ZeroAreaPolygons == 0 && this->DuplicatePolygons == 0;
 }
 
@@ -148,6 +263,12 @@ std::vector<std::string> RepairReport::Messages() const
   {
     lines.push_back(Plural(this->WeldedVertices, "vertex", "vertices") +
       " welded onto a neighbour (moved at most " + Number(this->LargestWeldDistance) + ")");
+  }
+  if (this->SnappedVertices > 0)
+  {
+    lines.push_back(Plural(this->SnappedVertices, "vertex", "vertices") +
+      " snapped onto the axis-aligned plane of a polygon (moved at most " +
+      Number(this->LargestSnapDistance) + ")");
   }
   if (this->RepeatedVertexPolygons > 0)
   {
@@ -190,6 +311,18 @@ Scene RepairScene(const Scene& scene, const RepairOptions& options, RepairReport
   ValidationTolerances anyPlane = options.Validation;
   anyPlane.Planarity = 1.0; // every other check of ValidateScene, planarity aside
 
+  // Weld every vertex first, then snap the clusters onto axis planes, so that
+  // a vertex shared by several polygons moves once, for all of them.
+  std::vector<std::vector<int>> welded(scene.Surfaces.size());
+  for (std::size_t cell = 0; cell < scene.Surfaces.size(); ++cell)
+  {
+    for (Vec3 p : scene.Surfaces[cell].Vertices)
+    {
+      welded[cell].push_back(welder.Weld(p, report));
+    }
+  }
+  SnapToAxisPlanes(welder.Points, welded, options.WeldTolerance * scene.Size(), report);
+
   for (std::size_t cell = 0; cell < scene.Surfaces.size(); ++cell)
   {
     const Surface& input = scene.Surfaces[cell];
@@ -199,10 +332,11 @@ Scene RepairScene(const Scene& scene, const RepairOptions& options, RepairReport
     bool repeated = false;
     const double diameter = ComputePolygonGeometry(input.Vertices).Diameter;
     const double coincident = options.Validation.Degeneracy * diameter;
-    for (Vec3 p : input.Vertices)
+    for (std::size_t v = 0; v < input.Vertices.size(); ++v)
     {
-      const Vec3 original = p;
-      const int id = welder.Weld(p, report);
+      const Vec3& original = input.Vertices[v];
+      const int id = welded[cell][v];
+      const Vec3 p = id >= 0 ? welder.Points[id] : original;
       changed = changed || !(p.X == original.X && p.Y == original.Y && p.Z == original.Z);
       const bool same = !ids.empty() &&
         (ids.back() == id || Length(p - s.Vertices.back()) <= coincident);

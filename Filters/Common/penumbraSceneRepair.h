@@ -52,6 +52,10 @@ struct RepairReport
   std::size_t WeldedVertices = 0;
   /// Largest distance a welded vertex moved (scene units).
   double LargestWeldDistance = 0.0;
+  /// Vertices snapped onto the axis-aligned plane of a polygon they lie
+  /// within the weld tolerance of, and the largest distance one moved.
+  std::size_t SnappedVertices = 0;
+  double LargestSnapDistance = 0.0;
   /// Polygons that lost repeated consecutive vertices.
   std::size_t RepeatedVertexPolygons = 0;
   /// Non-planar polygons replaced by triangles, and the triangles made.
@@ -79,7 +83,11 @@ struct RepairReport
 /**
  * The scene with its safe repairs applied, in this order: vertices within
  * WeldTolerance of each other welded (each to the first of its cluster in
- * input order), repeated consecutive vertices removed, polygons of zero area
+ * input order), vertices within WeldTolerance of the axis-aligned plane of a
+ * polygon (one whose vertices all lie within WeldTolerance of one x, y or z)
+ * and inside its bounding rectangle snapped onto it (single-precision
+ * exports leave floors and the boxes standing on them 1e-7 off, and the
+ * pipeline needs contacts exact), repeated consecutive vertices removed, polygons of zero area
  * dropped, later duplicates of a polygon dropped, polygons bent beyond
  * FlatnessTolerance triangulated by ear clipping in their mean plane (each
  * triangle keeps the polygon's front side and material). `sourceCell[i]` receives the input

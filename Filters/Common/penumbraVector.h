@@ -30,6 +30,7 @@ struct Vec3
   }
 
   double operator[](int i) const { return i == 0 ? X : (i == 1 ? Y : Z); }
+  double& operator[](int i) { return i == 0 ? X : (i == 1 ? Y : Z); }
   Vec3& operator+=(const Vec3& o)
   {
     X += o.X;

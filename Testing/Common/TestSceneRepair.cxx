@@ -141,3 +141,32 @@ PENUMBRA_TEST(TestUnrepairableLeftToValidation)
   PENUMBRA_EXPECT(kept.Surfaces.size() == 1 && kept.Surfaces[0].Vertices.size() == 4);
   PENUMBRA_EXPECT_THROW(ValidateScene(kept, ValidationTolerances(), &source), InputError, "cell 0: ");
 }
+
+// Single-precision noise on axis-aligned geometry: a floor whose corners are
+// 1e-8 off y = 0 and a box side whose base is 3e-8 above it snap onto the
+// floor's plane (the first floor corner's y); a vertex beyond the floor's
+// rectangle, or further than the tolerance, stays where it is.
+PENUMBRA_TEST(TestSnapToAxisPlanes)
+{
+  Scene in;
+  in.Surfaces.push_back({ { { 0, 0, 0 }, { 0, 2e-8, 4 }, { 4, -1e-8, 4 }, { 4, 1e-8, 0 } },
+    RGB(0.5, 0.5, 0.5), RGB() });
+  in.Surfaces.push_back(Quad({ 1, 3e-8, 1 }, { 1, 3e-8, 2 }, { 1, 1, 2 }, { 1, 1, 1 }));
+  in.Surfaces.push_back(Quad({ 5, 3e-8, 1 }, { 5, 3e-8, 2 }, { 5, 1, 2 }, { 5, 1, 1 }));
+  in.Surfaces.push_back(Quad({ 2, 1e-3, 1 }, { 2, 1e-3, 2 }, { 2, 1, 2 }, { 2, 1, 1 }));
+  RepairReport report;
+  std::vector<std::size_t> source;
+  const Scene out = Repair(in, report, source);
+  PENUMBRA_EXPECT(out.Surfaces.size() == 4);
+  PENUMBRA_EXPECT(report.SnappedVertices == 5 && report.NonPlanarPolygons == 0);
+  PENUMBRA_EXPECT_REL(report.LargestSnapDistance, 3e-8, 1e-6);
+  for (const Vec3& p : out.Surfaces[0].Vertices)
+  {
+    PENUMBRA_EXPECT(p.Y == 0.0);
+  }
+  PENUMBRA_EXPECT(out.Surfaces[1].Vertices[0].Y == 0.0 && out.Surfaces[1].Vertices[1].Y == 0.0);
+  PENUMBRA_EXPECT(out.Surfaces[2].Vertices[0].Y == 3e-8); // outside the floor
+  PENUMBRA_EXPECT(out.Surfaces[3].Vertices[0].Y == 1e-3); // a real gap
+  PENUMBRA_EXPECT(report.Messages().size() == 1 &&
+    report.Messages()[0].find("5 vertices snapped onto the axis-aligned plane") == 0);
+}

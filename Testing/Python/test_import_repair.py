@@ -142,6 +142,18 @@ def duplicated(faces):
     return faces
 
 
+def single_precision(faces):
+    """Every coordinate rounded to single precision, as many exporters write
+    them, plus noise of that size: corners 1e-7 off their planes and off each
+    other, the box's base 1e-7 above or below the floor."""
+    faces = [(m, [np.float32(p).astype(float) for p in v]) for m, v in faces]
+    rng = np.random.default_rng(5)
+    for _, vertices in faces:
+        for p in vertices:
+            p += rng.uniform(-1e-7, 1e-7, 3)
+    return faces
+
+
 def slivers(faces):
     """Zero-area faces: a collinear triangle, a sliver far below the degeneracy
     tolerance, a face whose corners all coincide."""
@@ -174,7 +186,11 @@ CASES = {
                                 "1 polygon with repeated consecutive vertices cleaned",
                                 "1 duplicate polygon dropped"],
                    "degenerate polygon: vertices 1 and 2 coincide"),
-    "slivers": (slivers, ["3 zero-area polygons dropped"], "degenerate polygon"),
+    "slivers": (slivers, ["3 zero-area polygons dropped",
+                          # the sliver's apex, 1e-14 off the floor's plane
+                          "1 vertex snapped onto the axis-aligned plane"], "degenerate polygon"),
+    "single precision": (single_precision, ["vertices welded onto a neighbour",
+                                            "snapped onto the axis-aligned plane"], None),
     "concave and T-junctions": (topology, [], None),
 }
 
