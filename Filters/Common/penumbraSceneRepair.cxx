@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -140,11 +141,11 @@ std::vector<int> CanonicalOutline(const std::vector<int>& ids)
  * Snaps coordinates onto the axis-aligned planes the scene is built on.
  * Single-precision exports leave a floor's corners 1e-7 off its plane and a
  * box's base 1e-7 above or below the floor; the pipeline needs such contacts
- * exact. For each axis, the polygons whose vertices all lie within the
- * tolerance of one value of that coordinate are grouped by that value (the
- * first such polygon in input order gives it); every vertex within the
- * tolerance of a group's value, inside one of its polygons' bounding
- * rectangles, takes the value. Exact scenes are left as they are.
+ * exact. For each axis, a polygon whose vertices all lie within the tolerance
+ * of its first vertex's value of that coordinate claims the vertices within
+ * the tolerance of that value inside its bounding rectangle, its own
+ * included; each claimed vertex takes the value of the earliest polygon
+ * claiming it. Exact scenes are left as they are.
  */
 void SnapToAxisPlanes(std::vector<Vec3>& points, const std::vector<std::vector<int>>& polygons,
   double tolerance, RepairReport& report)
@@ -190,9 +191,6 @@ void SnapToAxisPlanes(std::vector<Vec3>& points, const std::vector<std::vector<i
         planar.push_back(entry);
       }
     }
-    std::sort(planar.begin(), planar.end(), [](const Planar& x, const Planar& y) {
-      return x.Value < y.Value || (x.Value == y.Value && x.Polygon < y.Polygon);
-    });
     std::vector<int> order(points.size());
     for (std::size_t i = 0; i < order.size(); ++i)
     {
@@ -200,48 +198,37 @@ void SnapToAxisPlanes(std::vector<Vec3>& points, const std::vector<std::vector<i
     }
     std::sort(order.begin(), order.end(),
       [&points, k](int x, int y) { return points[x][k] < points[y][k]; });
-    for (std::size_t first = 0; first < planar.size();)
+    // Each vertex takes the value of the earliest (in input order) planar
+    // polygon that claims it: within the tolerance of its value, inside its
+    // bounding rectangle. Claims are local, so two distant boxes whose tops
+    // differ by less than the tolerance keep their own heights.
+    std::vector<std::pair<std::size_t, double>> claim(
+      points.size(), { std::numeric_limits<std::size_t>::max(), 0.0 });
+    for (const Planar& r : planar)
     {
-      std::size_t last = first + 1;
-      while (last < planar.size() && planar[last].Value - planar[first].Value <= tolerance)
-      {
-        ++last;
-      }
-      const auto earliest = std::min_element(planar.begin() + first, planar.begin() + last,
-        [](const Planar& x, const Planar& y) { return x.Polygon < y.Polygon; });
-      const double value = earliest->Value;
-      const auto begin = std::lower_bound(order.begin(), order.end(), value - tolerance,
+      const auto begin = std::lower_bound(order.begin(), order.end(), r.Value - tolerance,
         [&points, k](int id, double v) { return points[id][k] < v; });
-      std::vector<std::pair<int, double>> snaps;
-      for (auto it = begin; it != order.end() && points[*it][k] <= value + tolerance; ++it)
+      for (auto it = begin; it != order.end() && points[*it][k] <= r.Value + tolerance; ++it)
       {
         const Vec3& p = points[*it];
-        if (p[k] == value)
+        if (r.Polygon < claim[*it].first && p[a] >= r.Lo[0] - tolerance &&
+          p[a] <= r.Hi[0] + tolerance && p[b] >= r.Lo[1] - tolerance &&
+          p[b] <= r.Hi[1] + tolerance)
         {
-          continue;
-        }
-        for (std::size_t g = first; g < last; ++g)
-        {
-          const Planar& r = planar[g];
-          if (p[a] >= r.Lo[0] - tolerance && p[a] <= r.Hi[0] + tolerance &&
-            p[b] >= r.Lo[1] - tolerance && p[b] <= r.Hi[1] + tolerance)
-          {
-            snaps.emplace_back(*it, value);
-            break;
-          }
+          claim[*it] = { r.Polygon, r.Value };
         }
       }
-      for (const auto& snap : snaps)
+    }
+    for (std::size_t id = 0; id < points.size(); ++id)
+    {
+      if (claim[id].first != std::numeric_limits<std::size_t>::max() &&
+        points[id][k] != claim[id].second)
       {
-        Vec3& p = points[snap.first];
-        report.LargestSnapDistance = std::max(report.LargestSnapDistance, std::abs(p[k] - snap.second));
-        p[k] = snap.second;
-        moved.insert(snap.first);
+        report.LargestSnapDistance =
+          std::max(report.LargestSnapDistance, std::abs(points[id][k] - claim[id].second));
+        points[id][k] = claim[id].second;
+        moved.insert(static_cast<int>(id));
       }
-      first = last;
-      // The order by this coordinate may have changed: only within the
-      // tolerance band just snapped, which later groups (further than the
-      // tolerance) do not reach.
     }
   }
   report.SnappedVertices = moved.size();
