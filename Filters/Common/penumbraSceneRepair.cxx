@@ -234,11 +234,173 @@ void SnapToAxisPlanes(std::vector<Vec3>& points, const std::vector<std::vector<i
   report.SnappedVertices = moved.size();
 }
 
+/// Whether the point (u, v) lies inside the polygon `ring` (2D), or within
+/// `margin` of its outline.
+bool InsideOrNear(const std::vector<P2>& ring, double u, double v, double margin)
+{
+  bool inside = false;
+  const std::size_t n = ring.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++)
+  {
+    const P2& a = ring[i];
+    const P2& b = ring[j];
+    if ((a[1] > v) != (b[1] > v) && u < (b[0] - a[0]) * (v - a[1]) / (b[1] - a[1]) + a[0])
+    {
+      inside = !inside;
+    }
+    // Distance to the edge, for points on or just outside the outline.
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    const double length2 = ex * ex + ey * ey;
+    const double t = length2 > 0.0
+      ? std::max(0.0, std::min(1.0, ((u - a[0]) * ex + (v - a[1]) * ey) / length2))
+      : 0.0;
+    const double dx = a[0] + t * ex - u, dy = a[1] + t * ey - v;
+    if (dx * dx + dy * dy <= margin * margin)
+    {
+      return true;
+    }
+  }
+  return inside;
+}
+
+/**
+ * Vertices resting on a polygon they are not a vertex of (a box's base on a
+ * floor, 1e-7 off after single-precision rounding, at any orientation): within
+ * `tolerance` of its plane, their projection inside its outline, they are
+ * moved onto the plane (of the earliest such polygon). Distances below
+ * `exact` (rounding of an exact contact) are left alone, so exact scenes do
+ * not change. Returns the surfaces whose vertices moved.
+ */
+std::vector<bool> SnapOntoPlanes(Scene& scene, double tolerance, double exact, RepairReport& report)
+{
+  const std::size_t n = scene.Surfaces.size();
+  std::vector<bool> moved(n, false);
+  if (!(tolerance > 0.0) || n == 0)
+  {
+    return moved;
+  }
+  // Distinct positions, with where each occurs.
+  std::map<std::array<double, 3>, int> ids;
+  std::vector<Vec3> points;
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> uses;
+  std::vector<std::vector<int>> polygonIds(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (std::size_t k = 0; k < scene.Surfaces[i].Vertices.size(); ++k)
+    {
+      const Vec3& p = scene.Surfaces[i].Vertices[k];
+      const auto found = ids.emplace(std::array<double, 3>{ p.X, p.Y, p.Z }, static_cast<int>(points.size()));
+      if (found.second)
+      {
+        points.push_back(p);
+        uses.emplace_back();
+      }
+      uses[found.first->second].emplace_back(i, k);
+      polygonIds[i].push_back(found.first->second);
+    }
+  }
+  // A grid of the positions, 64 cells along the scene's longest side.
+  Vec3 lo = points[0], hi = points[0];
+  for (const Vec3& p : points)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      lo[c] = std::min(lo[c], p[c]);
+      hi[c] = std::max(hi[c], p[c]);
+    }
+  }
+  const double cell = std::max({ hi.X - lo.X, hi.Y - lo.Y, hi.Z - lo.Z, 1e-300 }) / 64.0;
+  const auto index = [&](double x, int c) {
+    return std::max(0, std::min(64, static_cast<int>(std::floor((x - lo[c]) / cell))));
+  };
+  std::map<std::array<int, 3>, std::vector<int>> grid;
+  for (std::size_t id = 0; id < points.size(); ++id)
+  {
+    grid[{ index(points[id].X, 0), index(points[id].Y, 1), index(points[id].Z, 2) }].push_back(
+      static_cast<int>(id));
+  }
+  std::vector<std::size_t> claim(points.size(), n);
+  std::vector<Vec3> target(points.size());
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::vector<Vec3>& v = scene.Surfaces[i].Vertices;
+    const PolygonGeometry g = ComputePolygonGeometry(v);
+    if (!(g.Area > 0.0))
+    {
+      continue;
+    }
+    const Vec3 helper = std::abs(g.Normal.X) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    const Vec3 u = Normalized(Cross(helper, g.Normal));
+    const Vec3 w = Cross(g.Normal, u);
+    std::vector<P2> ring;
+    Vec3 blo = v[0], bhi = v[0];
+    for (const Vec3& p : v)
+    {
+      ring.push_back({ Dot(p, u), Dot(p, w) });
+      for (int c = 0; c < 3; ++c)
+      {
+        blo[c] = std::min(blo[c], p[c] - tolerance);
+        bhi[c] = std::max(bhi[c], p[c] + tolerance);
+      }
+    }
+    const std::vector<int>& own = polygonIds[i];
+    for (int x = index(blo.X, 0); x <= index(bhi.X, 0); ++x)
+    {
+      for (int y = index(blo.Y, 1); y <= index(bhi.Y, 1); ++y)
+      {
+        for (int z = index(blo.Z, 2); z <= index(bhi.Z, 2); ++z)
+        {
+          const auto found = grid.find({ x, y, z });
+          if (found == grid.end())
+          {
+            continue;
+          }
+          for (int id : found->second)
+          {
+            const Vec3& p = points[id];
+            const double distance = Dot(g.Normal, p) - g.Offset;
+            if (claim[id] < i || std::abs(distance) > tolerance || std::abs(distance) <= exact ||
+              std::find(own.begin(), own.end(), id) != own.end())
+            {
+              continue;
+            }
+            const Vec3 q = p - g.Normal * distance;
+            if (InsideOrNear(ring, Dot(q, u), Dot(q, w), tolerance))
+            {
+              claim[id] = i;
+              target[id] = q;
+            }
+          }
+        }
+      }
+    }
+  }
+  std::size_t count = 0;
+  for (std::size_t id = 0; id < points.size(); ++id)
+  {
+    if (claim[id] == n)
+    {
+      continue;
+    }
+    ++count;
+    report.LargestPlaneSnapDistance =
+      std::max(report.LargestPlaneSnapDistance, Length(target[id] - points[id]));
+    for (const auto& use : uses[id])
+    {
+      scene.Surfaces[use.first].Vertices[use.second] = target[id];
+      moved[use.first] = true;
+    }
+  }
+  report.PlaneSnappedVertices = count;
+  return moved;
+}
+
 } // namespace
 
 bool RepairReport::Empty() const
 {
   return this->WeldedVertices == 0 && this->SnappedVertices == 0 &&
+    this->PlaneSnappedVertices == 0 &&
     this->RepeatedVertexPolygons == 0 &&
     this->NonPlanarPolygons == 0 && this->ZeroAreaPolygons == 0 && this->DuplicatePolygons == 0;
 }
@@ -256,6 +418,12 @@ std::vector<std::string> RepairReport::Messages() const
     lines.push_back(Plural(this->SnappedVertices, "vertex", "vertices") +
       " snapped onto the axis-aligned plane of a polygon (moved at most " +
       Number(this->LargestSnapDistance) + ")");
+  }
+  if (this->PlaneSnappedVertices > 0)
+  {
+    lines.push_back(Plural(this->PlaneSnappedVertices, "vertex", "vertices") +
+      " resting on a polygon snapped onto its plane (moved at most " +
+      Number(this->LargestPlaneSnapDistance) + ")");
   }
   if (this->RepeatedVertexPolygons > 0)
   {
@@ -419,7 +587,49 @@ Scene RepairScene(const Scene& scene, const RepairOptions& options, RepairReport
       sourceCell.push_back(cell);
     }
   }
-  return out;
+
+  // Contacts made exact at any orientation; the polygons whose vertices moved
+  // are flattened again.
+  const double size = scene.Size();
+  const std::vector<bool> moved =
+    SnapOntoPlanes(out, options.WeldTolerance * size, 1e-12 * size, report);
+  if (std::find(moved.begin(), moved.end(), true) == moved.end())
+  {
+    return out;
+  }
+  Scene flattened;
+  std::vector<std::size_t> flattenedSource;
+  const double flatness = std::min(options.FlatnessTolerance, options.Validation.Planarity);
+  for (std::size_t i = 0; i < out.Surfaces.size(); ++i)
+  {
+    const Surface& surface = out.Surfaces[i];
+    const PolygonGeometry g = ComputePolygonGeometry(surface.Vertices);
+    double deviation = 0.0;
+    for (const Vec3& p : surface.Vertices)
+    {
+      deviation = std::max(deviation, std::abs(Dot(g.Normal, p) - g.Offset));
+    }
+    if (!moved[i] || surface.Vertices.size() == 3 || !(deviation > flatness * g.Diameter))
+    {
+      flattened.Surfaces.push_back(surface);
+      flattenedSource.push_back(sourceCell[i]);
+      continue;
+    }
+    std::vector<std::array<int, 3>> triangles;
+    TriangulatePolygon(surface.Vertices, g.Normal, triangles);
+    ++report.NonPlanarPolygons;
+    report.LargestPlanarityDeviation = std::max(report.LargestPlanarityDeviation, deviation);
+    for (const auto& t : triangles)
+    {
+      flattened.Surfaces.push_back({ { surface.Vertices[t[0]], surface.Vertices[t[1]],
+                                       surface.Vertices[t[2]] },
+        surface.Reflectance, surface.Emission });
+      flattenedSource.push_back(sourceCell[i]);
+      ++report.NonPlanarTriangles;
+    }
+  }
+  sourceCell = std::move(flattenedSource);
+  return flattened;
 }
 
 } // namespace penumbra

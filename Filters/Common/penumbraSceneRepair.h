@@ -56,6 +56,10 @@ struct RepairReport
   /// within the weld tolerance of, and the largest distance one moved.
   std::size_t SnappedVertices = 0;
   double LargestSnapDistance = 0.0;
+  /// Vertices within the weld tolerance of a polygon's plane (any
+  /// orientation) whose projection lies inside it, moved onto the plane.
+  std::size_t PlaneSnappedVertices = 0;
+  double LargestPlaneSnapDistance = 0.0;
   /// Polygons that lost repeated consecutive vertices.
   std::size_t RepeatedVertexPolygons = 0;
   /// Non-planar polygons replaced by triangles, and the triangles made.
@@ -90,7 +94,10 @@ struct RepairReport
  * pipeline needs contacts exact), repeated consecutive vertices removed, polygons of zero area
  * dropped, later duplicates of a polygon dropped, polygons bent beyond
  * FlatnessTolerance triangulated by ear clipping in their mean plane (each
- * triangle keeps the polygon's front side and material). `sourceCell[i]` receives the input
+ * triangle keeps the polygon's front side and material), then vertices
+ * resting on a polygon (within WeldTolerance of its plane, inside its
+ * outline, at any orientation) moved onto its plane, and the polygons this
+ * bends triangulated in turn. `sourceCell[i]` receives the input
  * polygon of output surface i. Polygons needing no repair are copied
  * unchanged, so a clean scene comes out identical (Scene::IsIdentical).
  * Never throws for geometry; non-finite vertices are passed through for

@@ -170,3 +170,37 @@ PENUMBRA_TEST(TestSnapToAxisPlanes)
   PENUMBRA_EXPECT(report.Messages().size() == 1 &&
     report.Messages()[0].find("5 vertices snapped onto the axis-aligned plane") == 0);
 }
+
+// At any orientation: a vertex 3e-8 off a tilted polygon's plane, inside its
+// outline, is moved onto the plane; one outside the outline, or off by less
+// than rounding, stays.
+PENUMBRA_TEST(TestSnapOntoTiltedPlanes)
+{
+  const Vec3 n = Normalized(Vec3(0.3, 1.0, 0.2));
+  const Vec3 u = Normalized(Cross(Vec3(0, 0, 1), n));
+  const Vec3 w = Cross(n, u);
+  Scene in;
+  in.Surfaces.push_back({ { u * -2 + w * -2, u * 2 + w * -2, u * 2 + w * 2, u * -2 + w * 2 },
+    RGB(0.5, 0.5, 0.5), RGB() });
+  const Vec3 inside = u * 0.5 + w * 0.5 + n * 3e-8;
+  const Vec3 outside = u * 3 + w * 0.5 + n * 3e-8;
+  const Vec3 rounding = u * -0.5 + w * 0.5 + n * 1e-14;
+  for (const Vec3& base : { inside, outside, rounding })
+  {
+    // A thin upright triangle standing on the floor at `base`.
+    in.Surfaces.push_back({ { base, base + u * 0.3, base + n * 0.5 }, RGB(0.5, 0.5, 0.5), RGB() });
+  }
+  RepairReport report;
+  std::vector<std::size_t> source;
+  const Scene out = Repair(in, report, source);
+  // The inside triangle's two vertices on the floor.
+  PENUMBRA_EXPECT(report.PlaneSnappedVertices == 2 && report.SnappedVertices == 0);
+  PENUMBRA_EXPECT_REL(report.LargestPlaneSnapDistance, 3e-8, 1e-6);
+  const PolygonGeometry floor = ComputePolygonGeometry(out.Surfaces[0].Vertices);
+  for (int k = 0; k < 2; ++k)
+  {
+    PENUMBRA_EXPECT(std::abs(Dot(floor.Normal, out.Surfaces[1].Vertices[k]) - floor.Offset) < 1e-15);
+  }
+  PENUMBRA_EXPECT(Length(out.Surfaces[2].Vertices[0] - outside) == 0.0);
+  PENUMBRA_EXPECT(Length(out.Surfaces[3].Vertices[0] - rounding) == 0.0);
+}

@@ -281,3 +281,25 @@ def test_unusable_input_stays_an_error_naming_the_input_cell(tmp_path):
     path = write_obj(str(tmp_path), "empty", [("floor", [np.array([1.0, 1.0, 1.0])] * 3)])
     with pytest.raises(PenumbraError, match="no polygons left"):
         load(path)
+
+
+def test_contacts_at_any_orientation_are_made_exact(tmp_path):
+    # The room turned off the axes, its floor's corners then moved by up to
+    # 1e-7: the box's base, exact before, now rests 1e-7 off the floor's plane.
+    # It is moved onto it (no axis plane to snap to) and matches the twin.
+    turn = np.array([[np.cos(0.3), 0, np.sin(0.3)], [0, 1, 0], [-np.sin(0.3), 0, np.cos(0.3)]]) @ \
+        np.array([[1, 0, 0], [0, np.cos(0.2), -np.sin(0.2)], [0, np.sin(0.2), np.cos(0.2)]])
+    clean = [(m, [turn @ p for p in v]) for m, v in clean_faces()]
+    noisy = [(m, [p.copy() for p in v]) for m, v in clean]
+    rng = np.random.default_rng(3)
+    for p in noisy[0][1]:
+        p += rng.uniform(-1e-7, 1e-7, 3)
+    points = [turn @ np.array(p) for p in FLOOR_POINTS]
+    normal = turn @ np.array([0.0, 1.0, 0.0])
+    twin, found = load(write_obj(str(tmp_path), "turned", clean))
+    assert found == []
+    scene, found = load(write_obj(str(tmp_path), "noisy", noisy))
+    assert any("4 vertices resting on a polygon snapped onto its plane" in w for w in found), found
+    reference = radiance_at(penumbra.solve(twin, threads=2), points, normal)
+    assert relative_rms(radiance_at(penumbra.solve(scene, threads=2), points, normal),
+                        reference) <= 0.005
