@@ -75,11 +75,11 @@ def display(samples, tolerance, level):
 
 
 def vtp_megabytes(result):
-    from penumbra.cli import _write_vtp
+    from penumbra.export import write_vtp
 
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "result.vtp")
-        _write_vtp(result, path)
+        write_vtp(result, path)
         return os.path.getsize(path) / 1e6
 
 

@@ -5,7 +5,8 @@
  * the projection of 3D points to the frame's 2D coordinates and back.
  *
  * Each user builds its frames its own way (from a polygon's longest edge,
- * from a mesh's summed normals, ...); only the type and the two maps are shared.
+ * from a mesh's summed normals, ...); only the type, the two maps and
+ * InPlaneAxes (for planes without a preferred direction) are shared.
  */
 #ifndef penumbraPlaneFrame_h
 #define penumbraPlaneFrame_h
@@ -13,8 +14,19 @@
 #include "penumbraMath.h"
 #include "penumbraVector.h"
 
+#include <cmath>
+
 namespace penumbra
 {
+
+/// Unit in-plane axes u, v of the plane with unit normal n (u, v, n right-handed):
+/// any pair will do where no edge gives a preferred direction.
+inline void InPlaneAxes(const Vec3& n, Vec3& u, Vec3& v)
+{
+  const Vec3 helper = std::abs(n.X) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  u = Normalized(Cross(helper, n));
+  v = Cross(n, u);
+}
 
 /// The frame of a plane; U, V, N orthonormal, V = N x U.
 struct PlaneFrame

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraScene.h"
 
+#include "penumbraPlaneFrame.h"
 #include "penumbraMath.h"
 
 #include <algorithm>
@@ -20,9 +21,8 @@ void TriangulatePolygon(
   {
     return;
   }
-  const Vec3 helper = std::abs(normal.X) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  const Vec3 axisU = Normalized(Cross(helper, normal));
-  const Vec3 axisV = Cross(normal, axisU);
+  Vec3 axisU, axisV;
+  InPlaneAxes(normal, axisU, axisV);
   std::vector<double> u(count);
   std::vector<double> w(count);
   for (int i = 0; i < count; ++i)

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraSceneRepair.h"
 
+#include "penumbraPlaneFrame.h"
 #include "penumbraMath.h"
 
 #include <algorithm>
@@ -329,9 +330,8 @@ std::vector<bool> SnapOntoPlanes(Scene& scene, double tolerance, double exact, R
     {
       continue;
     }
-    const Vec3 helper = std::abs(g.Normal.X) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-    const Vec3 u = Normalized(Cross(helper, g.Normal));
-    const Vec3 w = Cross(g.Normal, u);
+    Vec3 u, w;
+    InPlaneAxes(g.Normal, u, w);
     std::vector<P2> ring;
     Vec3 blo = v[0], bhi = v[0];
     for (const Vec3& p : v)

@@ -6,6 +6,7 @@
 
 #include "vtkDataObject.h"
 #include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
 
 #include <exception>
 #include <new>
@@ -15,6 +16,7 @@ int vtkPenumbraAlgorithm::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   std::string error;
+  this->Warnings.clear();
   try
   {
     return this->Execute(request, inputVector, outputVector);
@@ -40,6 +42,22 @@ int vtkPenumbraAlgorithm::RequestData(
   }
   vtkErrorMacro(<< (error.empty() ? std::string("unknown error") : error));
   return 0;
+}
+
+int vtkPenumbraAlgorithm::GetNumberOfWarnings() const
+{
+  return static_cast<int>(this->Warnings.size());
+}
+
+const char* vtkPenumbraAlgorithm::GetWarning(int i) const
+{
+  return i >= 0 && i < this->GetNumberOfWarnings() ? this->Warnings[i].c_str() : nullptr;
+}
+
+void vtkPenumbraAlgorithm::Warn(const std::string& message)
+{
+  this->Warnings.push_back(message);
+  vtkWarningMacro(<< message);
 }
 
 std::string vtkPenumbraAlgorithm::ErrorText(const std::string& message)
@@ -116,4 +134,9 @@ void vtkPenumbraAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "PreparedScene: " << (this->Prepared ? "set" : "none") << "\n";
+  os << indent << "Warnings: " << this->Warnings.size() << "\n";
+  for (const std::string& w : this->Warnings)
+  {
+    os << indent.GetNextIndent() << w << "\n";
+  }
 }

@@ -12,6 +12,11 @@
  * Embree or CGAL (std::runtime_error), std::bad_alloc ("out of memory") and
  * anything else ("unknown exception").
  *
+ * Warnings (input that was repaired, scenes that will come out black) are
+ * kept one line each for GetWarning() as well as reported with
+ * vtkWarningMacro, so that programs read them without parsing VTK's format;
+ * they are cleared when the filter runs again.
+ *
  * ErrorText() is the one parser of VTK's error format in Penumbra: the
  * composed solver uses it to relay a stage's message and the Python package
  * to turn errors into exceptions.
@@ -26,6 +31,7 @@
 
 #include <memory> // for std::shared_ptr
 #include <string> // for std::string
+#include <vector> // for std::vector
 
 namespace penumbra
 {
@@ -49,6 +55,20 @@ public:
    * message without the header is returned as it is. Empty when there is none.
    */
   static std::string ErrorText(const std::string& message);
+
+  /**
+   * The warnings of the last run, one line each, in order.
+   */
+  int GetNumberOfWarnings() const;
+  const char* GetWarning(int i) const;
+
+#ifndef __VTK_WRAP__
+  /**
+   * C++ only: keep `message` for GetWarning() and report it with
+   * vtkWarningMacro. For the filter's own code and the helpers it runs.
+   */
+  void Warn(const std::string& message);
+#endif
 
 #ifndef __VTK_WRAP__
   /**
@@ -86,6 +106,7 @@ private:
 #ifndef __VTK_WRAP__
   std::shared_ptr<const penumbra::PreparedScene> Prepared;
 #endif
+  std::vector<std::string> Warnings;
   vtkPenumbraAlgorithm(const vtkPenumbraAlgorithm&) = delete;
   void operator=(const vtkPenumbraAlgorithm&) = delete;
 };

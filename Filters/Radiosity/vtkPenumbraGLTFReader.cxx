@@ -387,10 +387,10 @@ public:
     }
     if (this->SkippedPrimitives > 0)
     {
-      vtkWarningWithObjectMacro(this->Owner,
-        << "glTF file '" << this->File.Path << "': skipped " << this->SkippedPrimitives
-        << " primitive(s) without triangles (points, lines or no positions); only "
-           "triangles are surfaces");
+      this->Owner->Warn("glTF file '" + this->File.Path + "': skipped " +
+        std::to_string(this->SkippedPrimitives) +
+        " primitive(s) without triangles (points, lines or no positions); only triangles are "
+        "surfaces");
     }
     return std::move(this->Scene);
   }
@@ -549,16 +549,14 @@ private:
         this->File.Fail(name + ": its baseColorTexture has no image that could be read");
       }
       std::transform(base, base + 3, mean, base, std::multiplies<double>());
-      vtkWarningWithObjectMacro(this->Owner,
-        << "glTF file '" << this->File.Path << "': " << name
-        << " has a baseColorTexture; its reflectance is baseColorFactor times the texture's "
-           "mean colour (the texture's variation is ignored)");
+      this->Owner->Warn("glTF file '" + this->File.Path + "': " + name +
+        " has a baseColorTexture; its reflectance is baseColorFactor times the texture's mean "
+        "colour (the texture's variation is ignored)");
     }
     if (m.EmissiveTexture.Index >= 0)
     {
-      vtkWarningWithObjectMacro(this->Owner,
-        << "glTF file '" << this->File.Path << "': " << name
-        << " has an emissiveTexture, ignored (emission is emissiveFactor times strength)");
+      this->Owner->Warn("glTF file '" + this->File.Path + "': " + name +
+        " has an emissiveTexture, ignored (emission is emissiveFactor times strength)");
     }
     const double strength = EmissiveStrength(this->File, index);
     Material result{ { base[0], base[1], base[2] },
@@ -604,7 +602,7 @@ std::shared_ptr<Model> LoadModel(const GLTFFile& file, vtkPenumbraGLTFReader* ow
   }
   for (const std::string& warning : messages->Warnings)
   {
-    vtkWarningWithObjectMacro(owner, << "glTF file '" << file.Path << "': " << warning);
+    owner->Warn("glTF file '" + file.Path + "': " + warning);
   }
   if (!ok || !loader->GetInternalModel())
   {

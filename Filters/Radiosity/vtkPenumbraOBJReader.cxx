@@ -10,6 +10,9 @@
 
 #include "penumbraObjReader.h"
 
+#include <string>
+#include <vector>
+
 vtkStandardNewMacro(vtkPenumbraOBJReader);
 
 vtkPenumbraOBJReader::vtkPenumbraOBJReader()
@@ -26,13 +29,12 @@ int vtkPenumbraOBJReader::Execute(
     vtkErrorMacro(<< "FileName is not set");
     return 0;
   }
-  this->Warnings.clear();
+  std::vector<std::string> warnings;
   try
   {
     penumbra::ObjReadOptions options;
     options.Strict = this->Strict;
-    penumbra::SceneToPolyData(
-      penumbra::ReadObjScene(this->FileName, options, &this->Warnings), output);
+    penumbra::SceneToPolyData(penumbra::ReadObjScene(this->FileName, options, &warnings), output);
   }
   catch (const penumbra::InputError& e)
   {
@@ -40,9 +42,9 @@ int vtkPenumbraOBJReader::Execute(
     vtkErrorMacro(<< e.what());
     return 0;
   }
-  for (const std::string& w : this->Warnings)
+  for (const std::string& w : warnings)
   {
-    vtkWarningMacro(<< w);
+    this->Warn(w);
   }
   return 1;
 }
@@ -52,5 +54,4 @@ void vtkPenumbraOBJReader::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << this->FileName << "\n";
   os << indent << "Strict: " << (this->Strict ? "On" : "Off") << "\n";
-  os << indent << "Warnings: " << this->Warnings.size() << "\n";
 }

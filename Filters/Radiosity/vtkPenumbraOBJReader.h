@@ -10,7 +10,8 @@
  * and smoothing groups are ignored. A malformed file is an error that names the
  * file and line; the output is then empty. A material library that cannot be
  * opened and a material no library defines are warnings (those faces get the
- * default grey), unless Strict is on; GetWarning() lists them for programs.
+ * default grey), unless Strict is on; GetWarning() lists them ("file:line:
+ * what") for programs.
  * Geometry is repaired and validated downstream (vtkPenumbraSceneRepair).
  *
  * @sa vtkPenumbraSceneSource vtkPenumbraSceneValidator
@@ -22,7 +23,6 @@
 #include "vtkPenumbraAlgorithm.h"
 
 #include <string> // for std::string
-#include <vector> // for std::vector
 
 class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraOBJReader : public vtkPenumbraAlgorithm
 {
@@ -50,14 +50,6 @@ public:
   vtkBooleanMacro(Strict, bool);
   ///@}
 
-  /**
-   * The warnings of the last run, one line each ("file:line: what").
-   */
-  int GetNumberOfWarnings() const { return static_cast<int>(this->Warnings.size()); }
-  const char* GetWarning(int i) const
-  {
-    return i >= 0 && i < this->GetNumberOfWarnings() ? this->Warnings[i].c_str() : nullptr;
-  }
 
 protected:
   vtkPenumbraOBJReader();
@@ -67,7 +59,6 @@ protected:
 
   std::string FileName;
   bool Strict = false;
-  std::vector<std::string> Warnings;
 
 private:
   vtkPenumbraOBJReader(const vtkPenumbraOBJReader&) = delete;

@@ -19,6 +19,7 @@
 #include "penumbraSceneRepair.h"
 
 #include <string>
+#include <vector>
 
 vtkStandardNewMacro(vtkPenumbraSceneRepair);
 
@@ -86,17 +87,12 @@ vtkPenumbraSceneRepair::vtkPenumbraSceneRepair()
   this->CheckLighting = true;
 }
 
-const char* vtkPenumbraSceneRepair::GetWarning(int i) const
-{
-  return i >= 0 && i < this->GetNumberOfWarnings() ? this->Warnings[i].c_str() : nullptr;
-}
-
 int vtkPenumbraSceneRepair::Execute(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  this->Warnings.clear();
+  std::vector<std::string> warnings;
   this->LastErrorMessage.clear();
   penumbra::RepairOptions options;
   options.WeldTolerance = this->WeldTolerance;
@@ -110,7 +106,7 @@ int vtkPenumbraSceneRepair::Execute(
     if (extras > 0 && !this->Strict)
     {
       polygons = PolygonsOnly(input);
-      this->Warnings.push_back(std::to_string(extras) +
+      warnings.push_back(std::to_string(extras) +
         " vertex and line cells dropped (a scene is polygons; lines do not reflect light)");
     }
     const penumbra::Scene scene = penumbra::SceneFromPolyData(polygons);
@@ -126,7 +122,7 @@ int vtkPenumbraSceneRepair::Execute(
       {
         for (const std::string& w : penumbra::DiagnoseLighting(scene))
         {
-          this->Warnings.push_back(w);
+          warnings.push_back(w);
         }
       }
     }
@@ -150,7 +146,7 @@ int vtkPenumbraSceneRepair::Execute(
       penumbra::ValidateScene(repaired, options.Validation, &sourceCell);
       for (const std::string& m : report.Messages())
       {
-        this->Warnings.push_back(m);
+        warnings.push_back(m);
       }
       if (report.Empty())
       {
@@ -176,7 +172,7 @@ int vtkPenumbraSceneRepair::Execute(
         for (const std::string& w :
           penumbra::DiagnoseLighting(repaired, penumbra::LightingDiagnosticsOptions(), &sourceCell))
         {
-          this->Warnings.push_back(w);
+          warnings.push_back(w);
         }
       }
     }
@@ -188,9 +184,9 @@ int vtkPenumbraSceneRepair::Execute(
     vtkErrorMacro(<< "invalid scene: " << e.what());
     return 0;
   }
-  for (const std::string& w : this->Warnings)
+  for (const std::string& w : warnings)
   {
-    vtkWarningMacro(<< w);
+    this->Warn(w);
   }
   return 1;
 }
@@ -204,10 +200,5 @@ void vtkPenumbraSceneRepair::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PlanarityTolerance: " << this->PlanarityTolerance << "\n";
   os << indent << "DegeneracyTolerance: " << this->DegeneracyTolerance << "\n";
   os << indent << "CheckLighting: " << (this->CheckLighting ? "On" : "Off") << "\n";
-  os << indent << "Warnings: " << this->Warnings.size() << "\n";
-  for (const std::string& w : this->Warnings)
-  {
-    os << indent.GetNextIndent() << w << "\n";
-  }
   os << indent << "LastErrorMessage: " << this->LastErrorMessage << "\n";
 }

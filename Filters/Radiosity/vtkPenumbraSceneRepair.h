@@ -37,7 +37,6 @@
 #include "vtkPenumbraAlgorithm.h"
 
 #include <string> // for std::string
-#include <vector> // for std::vector
 
 class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraSceneRepair : public vtkPenumbraAlgorithm
 {
@@ -107,12 +106,6 @@ public:
   ///@}
 
   /**
-   * The warnings of the last run, one line each.
-   */
-  int GetNumberOfWarnings() const { return static_cast<int>(this->Warnings.size()); }
-  const char* GetWarning(int i) const;
-
-  /**
    * The message of the last failed check, empty after a successful run.
    */
   vtkGetCharFromStdStringMacro(LastErrorMessage);
@@ -129,7 +122,6 @@ protected:
   double PlanarityTolerance;
   double DegeneracyTolerance;
   bool CheckLighting;
-  std::vector<std::string> Warnings;
   std::string LastErrorMessage;
 
 private:

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraIndirectLevel.h"
 
+#include "penumbraPlaneFrame.h"
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -18,12 +19,6 @@ constexpr int MaximumResolution = 1024;
 constexpr int MaximumQuadrature = 64;
 
 /// The frame of the plane with unit normal n, as TriangulatePolygon uses it.
-void PlaneFrame(const Vec3& n, Vec3& u, Vec3& v)
-{
-  const Vec3 helper = std::abs(n.X) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  u = Normalized(Cross(helper, n));
-  v = Cross(n, u);
-}
 
 /// Lattice resolution of a polygon whose longest ear edge is `longest`.
 int ResolutionFor(double longest, double spacing)
@@ -79,7 +74,7 @@ IndirectLevel::IndirectLevel(const Surface& surface, double spacing, const Surfa
   }
   Vec3 normal;
   const double longest = EarTriangles(surface, normal, this->Ears);
-  PlaneFrame(normal, this->AxisU, this->AxisV);
+  InPlaneAxes(normal, this->AxisU, this->AxisV);
   const std::vector<Vec3>& v = surface.Vertices;
   for (const Vec3& p : v)
   {

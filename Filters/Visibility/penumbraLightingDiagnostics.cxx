@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraLightingDiagnostics.h"
 
+#include "penumbraPlaneFrame.h"
 #include "penumbraMath.h"
 #include "penumbraRayCaster.h"
 
@@ -66,9 +67,8 @@ double BackHitFraction(const Scene& scene, int e, const PolygonGeometry& g,
     total += Length(Cross(s.Vertices[t[1]] - s.Vertices[t[0]], s.Vertices[t[2]] - s.Vertices[t[0]]));
     cumulative.push_back(total);
   }
-  const Vec3 helper = std::abs(g.Normal.X) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  const Vec3 u = Normalized(Cross(helper, g.Normal));
-  const Vec3 v = Cross(g.Normal, u);
+  Vec3 u, v;
+  InPlaneAxes(g.Normal, u, v);
   std::vector<Vec3> origins(rays), directions(rays);
   for (int r = 0; r < rays; ++r)
   {

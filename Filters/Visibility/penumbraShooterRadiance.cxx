@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraShooterRadiance.h"
 
+#include "penumbraPlaneFrame.h"
 #include "penumbraScene.h" // InputError
 
 #include <algorithm>
@@ -164,9 +165,7 @@ void ShooterRadiance::BuildGrid()
 {
   // In-plane frame: any unit vector orthogonal to the normal.
   const Vec3& n = this->Normal;
-  const Vec3 helper = std::abs(n.X) < 0.6 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  this->AxisU = Normalized(Cross(helper, n));
-  this->AxisV = Cross(n, this->AxisU);
+  InPlaneAxes(n, this->AxisU, this->AxisV);
   const int count = static_cast<int>(this->Triangles.size());
   std::vector<double> boxes(4 * static_cast<std::size_t>(count));
   double lo[2] = { 1e300, 1e300 };

@@ -11,17 +11,9 @@ from vtkmodules.test import Testing
 
 import penumbra
 from penumbra import generators
+from penumbra.export import write_vtp
 from penumbra.rendering import interior_view, make_render_window
 from conftest import BASELINE_DIR, run_penumbra
-
-
-def _write(data, path):
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter
-
-    writer = vtkXMLPolyDataWriter()
-    writer.SetFileName(str(path))
-    writer.SetInputData(data)
-    assert writer.Write() == 1
 
 
 def test_exit_codes_tell_usage_from_input_errors(tmp_path):
@@ -142,7 +134,7 @@ def test_closed_room_renders_its_interior(closed_room, tmp_path):
 
 def test_render_with_an_explicit_camera(closed_room, tmp_path):
     path = tmp_path / "room.vtp"
-    _write(closed_room, path)
+    assert write_vtp(closed_room, path)
     picture = tmp_path / "room.png"
     result = run_penumbra("render", path, "-o", picture, "--camera", "1,1.5,1:5,1,5",
                           "--fov", "80", "--size", "64", "48")

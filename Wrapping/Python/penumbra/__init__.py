@@ -73,9 +73,9 @@ def run_filter(algorithm, context=None, warnings=None):
     VTK reports errors through ErrorEvent, the output window and its logger
     rather than exceptions. While the algorithm runs, all three are captured
     (nothing reaches the terminal) and the first error becomes the exception's
-    message, prefixed with `context` (e.g. a file name) when given. The
-    algorithm's own warnings are appended to the list `warnings` when given
-    (and dropped otherwise).
+    message, prefixed with `context` (e.g. a file name) when given. A Penumbra
+    filter's warnings (vtkPenumbraAlgorithm.GetWarning) are appended to the
+    list `warnings` when given (and dropped otherwise).
     """
     from vtkmodules.vtkCommonCore import (vtkCommand, vtkLogger, vtkOutputWindow,
                                           vtkStringOutputWindow)
@@ -91,27 +91,15 @@ def run_filter(algorithm, context=None, warnings=None):
     window = vtkStringOutputWindow()
     vtkOutputWindow.SetInstance(window)
     vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
-    warned = []
-
-    def on_warning(_caller, _event, message=None):
-        # VTK's "Warning: In file, line N\nvtkClass (0x...): " header is not the message.
-        import re
-        text = re.sub(r"^\s*Warning: In [^\n]*, line \d+\s*\S+ \(0x[0-9a-fA-F]+\): ", "",
-                      str(message or ""))
-        warned.append(" ".join(text.split()))
-
-    on_warning.CallDataType = vtkmodules.vtkCommonCore.VTK_STRING
     tag = algorithm.AddObserver(vtkCommand.ErrorEvent, on_error)
-    warning_tag = algorithm.AddObserver(vtkCommand.WarningEvent, on_warning)
     try:
         algorithm.Update()
     finally:
         algorithm.RemoveObserver(tag)
-        algorithm.RemoveObserver(warning_tag)
-    if warnings is not None:
-        warnings.extend(w for w in warned if w)
         vtkOutputWindow.SetInstance(previous_window)
         vtkLogger.SetStderrVerbosity(previous_verbosity)
+    if warnings is not None and isinstance(algorithm, vtkPenumbraAlgorithm):
+        warnings.extend(algorithm.GetWarning(k) for k in range(algorithm.GetNumberOfWarnings()))
     # The output window holds errors of helper objects (e.g. the XML parser,
     # whose message is the most specific) in order, before the filter's own.
     texts = [vtkPenumbraAlgorithm.ErrorText(m)
@@ -158,7 +146,6 @@ def load_scene(scene, strict=False):
     emitter, emitters facing away or lighting backs) are warned about in both
     modes. Raises PenumbraError naming the offending cell, array or line.
     """
-    import warnings as python_warnings
     from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
 
     names = [name for name, _ in scenes()]
@@ -187,27 +174,28 @@ def load_scene(scene, strict=False):
     # The OBJ and glTF readers name the file themselves; XML errors need it added.
     run_filter(reader, context=scene if scene.lower().endswith(".vtp") else None,
                warnings=found)
-    repair = vtkPenumbraSceneRepair()
-    repair.SetStrict(bool(strict))
-    repair.SetInputConnection(reader.GetOutputPort())
-    context = None if scene in names else scene
-    result = run_filter(repair, context=context, warnings=found)
-    for message in found:
-        text = message if context is None or message.startswith(context) else (
-            "%s: %s" % (context, message))
-        python_warnings.warn(text, PenumbraWarning, stacklevel=2)
-    return result
+    return _repaired(lambda repair: repair.SetInputConnection(reader.GetOutputPort()), strict,
+                     None if scene in names else scene, found)
 
 
 def repair_scene(polydata, strict=False):
     """A scene vtkPolyData repaired and validated as load_scene does for files."""
+    return _repaired(lambda repair: repair.SetInputData(polydata), strict)
+
+
+def _repaired(connect, strict, context=None, found=()):
+    """vtkPenumbraSceneRepair's output for the input `connect(repair)` gives it;
+    its warnings, after those in `found`, issued as PenumbraWarnings that name
+    `context` (a file) when given."""
     import warnings as python_warnings
 
     repair = vtkPenumbraSceneRepair()
     repair.SetStrict(bool(strict))
-    repair.SetInputData(polydata)
-    found = []
-    result = run_filter(repair, warnings=found)
+    connect(repair)
+    found = list(found)
+    result = run_filter(repair, context=context, warnings=found)
     for message in found:
-        python_warnings.warn(message, PenumbraWarning, stacklevel=2)
+        text = message if context is None or message.startswith(context) else (
+            "%s: %s" % (context, message))
+        python_warnings.warn(text, PenumbraWarning, stacklevel=3)
     return result

@@ -53,47 +53,43 @@ def estimated_error(data):
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
+    from .rendering import _triangles
+
     estimate = data.GetPointData().GetArray("RadianceErrorEstimate")
     radiance = data.GetPointData().GetArray("Radiance")
-    surface_ids = data.GetCellData().GetArray("SurfaceId")
-    if estimate is None or radiance is None or surface_ids is None or not data.GetNumberOfPolys():
+    if estimate is None or radiance is None or data.GetCellData().GetArray("SurfaceId") is None \
+            or not data.GetNumberOfPolys():
         return None
-    points = vtk_to_numpy(data.GetPoints().GetData()).astype(float)
-    cells = vtk_to_numpy(data.GetPolys().GetData())
-    if len(cells) % 4 or not (cells[::4] == 3).all():
-        return None
-    triangles = cells.reshape(-1, 4)[:, 1:]
-    surface = vtk_to_numpy(surface_ids)[data.GetNumberOfVerts() + data.GetNumberOfLines():]
-    surface = surface[:len(triangles)]
+    points, triangles, surface = _triangles(data)
     a, b, c = (points[triangles[:, k]] for k in range(3))
     area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
     value = vtk_to_numpy(radiance).sum(axis=1)[triangles].mean(axis=1)
     error = (vtk_to_numpy(estimate).sum(axis=1)[triangles] ** 2).mean(axis=1)
     emission = data.GetFieldData().GetArray("SurfaceEmission")
-    emitting = set()
-    if emission is not None:
-        e = vtk_to_numpy(emission)
-        emitting = set(np.nonzero(e.max(axis=1) > 0)[0].tolist())
-    keep = np.array([s not in emitting for s in surface], dtype=bool)
+    emitting = (np.nonzero(vtk_to_numpy(emission).max(axis=1) > 0)[0] if emission is not None
+                else np.zeros(0, dtype=int))
+    keep = ~np.isin(surface, emitting)
     if not keep.any():
         return None
     area, value, error, surface = area[keep], value[keep], error[keep], surface[keep]
     mean = np.sum(area * value) / max(np.sum(area), 1e-300)
-    # Unlit surfaces (e.g. faces turned into a closed solid) carry no light to
-    # be wrong about; they are left out of both figures.
-    lit = np.zeros(len(surface), dtype=bool)
-    worst, worst_surface = 0.0, -1
-    for s in np.unique(surface):
-        mask = surface == s
-        surface_mean = np.sum(area[mask] * value[mask]) / max(np.sum(area[mask]), 1e-300)
-        if surface_mean <= 1e-6 * mean:
-            continue
-        lit |= mask
-        relative = np.sqrt(np.sum(area[mask] * error[mask]) / np.sum(area[mask])) / surface_mean
-        if relative > worst:
-            worst, worst_surface = float(relative), int(s)
-    if not lit.any():
+    # Per surface, by sums over its triangles. Unlit surfaces (e.g. faces
+    # turned into a closed solid) carry no light to be wrong about; they are
+    # left out of both figures.
+    surface_area = np.bincount(surface, area)
+    present = surface_area > 0
+    surface_mean = np.bincount(surface, area * value)[present] / surface_area[present]
+    surface_error = np.bincount(surface, area * error)[present] / surface_area[present]
+    ids = np.nonzero(present)[0]
+    lit_surfaces = surface_mean > 1e-6 * mean
+    if not lit_surfaces.any():
         return None
+    relative = np.sqrt(surface_error[lit_surfaces]) / surface_mean[lit_surfaces]
+    best = int(np.argmax(relative))
+    worst, worst_surface = float(relative[best]), int(ids[lit_surfaces][best])
+    if worst <= 0.0:
+        worst, worst_surface = 0.0, -1
+    lit = np.isin(surface, ids[lit_surfaces])
     lit_mean = np.sum(area[lit] * value[lit]) / np.sum(area[lit])
     overall = np.sqrt(np.sum(area[lit] * error[lit]) / np.sum(area[lit])) / lit_mean
     return float(overall), worst, worst_surface

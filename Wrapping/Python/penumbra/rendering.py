@@ -198,7 +198,8 @@ def _window(size):
 
 def _triangles(data):
     """(points, triangles, surface ids) of the polygons of `data`, triangulated
-    (fan; scene polygons are planar and the fans only feed ray tests)."""
+    (fan; scene polygons are planar and the fans only feed ray tests and area
+    sums); a result's triangles are taken as they are."""
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
@@ -206,15 +207,19 @@ def _triangles(data):
     cells = vtk_to_numpy(data.GetPolys().GetData())
     ids = data.GetCellData().GetArray("SurfaceId")
     offset = data.GetNumberOfVerts() + data.GetNumberOfLines()
+    count = data.GetNumberOfPolys()
+    cell_surface = (vtk_to_numpy(ids)[offset:offset + count] if ids is not None
+                    else np.arange(count))
+    if len(cells) == 4 * count and (cells[::4] == 3).all():
+        return points, cells.reshape(-1, 4)[:, 1:].astype(np.int64), np.asarray(cell_surface)
     triangles, surfaces = [], []
     k = cell = 0
     while k < len(cells):
         n = int(cells[k])
         corners = cells[k + 1:k + 1 + n]
-        surface = int(ids.GetValue(offset + cell)) if ids is not None else cell
         for j in range(1, n - 1):
             triangles.append((corners[0], corners[j], corners[j + 1]))
-            surfaces.append(surface)
+            surfaces.append(cell_surface[cell])
         k += n + 1
         cell += 1
     return points, np.array(triangles, dtype=np.int64).reshape(-1, 3), np.array(surfaces)
@@ -246,11 +251,9 @@ def interior_view(data):
     at that height.
     """
     import numpy as np
-    from vtkmodules.vtkCommonDataModel import vtkPolyData
-    from vtkmodules.vtkCommonCore import vtkPoints
-    from vtkmodules.vtkCommonDataModel import vtkCellArray
     from vtkmodules.vtkCommonDataModel import vtkStaticCellLocator
-    from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from .export import _triangle_polydata
 
     if data.GetNumberOfPolys() == 0:
         return None
@@ -261,14 +264,7 @@ def interior_view(data):
                        points[triangles[:, 2]] - points[triangles[:, 0]])
     areas = 0.5 * np.linalg.norm(normals, axis=1)
     normals = normals / np.maximum(2.0 * areas, 1e-300)[:, None]
-    mesh = vtkPolyData()
-    vtk_points = vtkPoints()
-    vtk_points.SetData(numpy_to_vtk(points, deep=1))
-    mesh.SetPoints(vtk_points)
-    connectivity = np.hstack([np.full((len(triangles), 1), 3), triangles]).ravel()
-    polys = vtkCellArray()
-    polys.SetCells(len(triangles), numpy_to_vtkIdTypeArray(connectivity.astype(np.int64), deep=1))
-    mesh.SetPolys(polys)
+    mesh = _triangle_polydata(points, triangles)
     locator = vtkStaticCellLocator()
     locator.SetDataSet(mesh)
     locator.BuildLocator()
