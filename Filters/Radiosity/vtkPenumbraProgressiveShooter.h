@@ -49,7 +49,9 @@ public:
   ///@{
   /**
    * Stop when the unshot power is at most this fraction of the emitted
-   * power. Default 1e-3, range [0, 1].
+   * power and could add at most this fraction of its own reflected power to
+   * any lit surface (penumbra::ProgressiveShooterSettings::UnshotFraction).
+   * Default 1e-3, range [0, 1].
    */
   vtkSetClampMacro(UnshotFraction, double, 0.0, 1.0);
   vtkGetMacro(UnshotFraction, double);

@@ -50,7 +50,8 @@ public:
   ///@{
   /**
    * Stop shooting when the unshot power is below this fraction of the
-   * emitted power (vtkPenumbraProgressiveShooter::UnshotFraction). Default 1e-3,
+   * emitted power and of each lit surface's own reflected power
+   * (vtkPenumbraProgressiveShooter::UnshotFraction). Default 1e-3,
    * range [0, 1].
    */
   vtkSetClampMacro(UnshotFraction, double, 0.0, 1.0);

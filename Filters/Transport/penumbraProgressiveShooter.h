@@ -16,7 +16,8 @@
  * expansion and about one occlusion ray per node used); weak shots may be
  * grouped or, with ReuseTransport, become Jacobi sweeps of every surface
  * through a recorded transport. It stops when the unshot power is at most
- * UnshotFraction of the reference power, after MaximumShots shots, when
+ * UnshotFraction of the reference power and of each lit surface's own
+ * reflected power (estimated), after MaximumShots shots, when
  * nothing is left to shoot, or when the callback asks. Energy is booked so
  * that Emitted = Absorbed + Unshot + Escaped (ShootingEnergy). Each shot is
  * one parallel loop through the caller's ParallelFor, bit-identical for any
@@ -49,7 +50,9 @@ namespace penumbra
 struct ProgressiveShooterSettings
 {
   /// Stop when the total unshot power (mean of RGB) is at most this fraction
-  /// of the reference power (emitted, or initial unshot if nothing emits).
+  /// of the reference power (emitted, or initial unshot if nothing emits)
+  /// and could add at most this fraction of its own reflected power to any
+  /// lit surface (a disc estimate; the design page, "Stopping").
   /// [1e-3], in [0, 1]; 0 runs until MaximumShots or no unshot power is left.
   double UnshotFraction = 1e-3;
   /// Largest number of shots of one Run. [10000], >= 0

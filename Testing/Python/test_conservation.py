@@ -105,3 +105,17 @@ def test_closed_box_room_escapes_nothing():
     print("box room: escaped %s, residual %s" % (escaped, residual))
     assert np.abs(escaped).max() <= 1e-4
     assert np.abs(residual).max() <= 1e-2
+
+
+def test_weakly_lit_surface_is_held_to_the_unshot_fraction():
+    """The half-lit panel's floor gets all its light from the panel, a small
+    share of the emitted power: the default stopping rule must still leave
+    it within UnshotFraction of its fully converged light (shooting until
+    nothing is left), not just the scene within that fraction of the
+    emitted power (0.17% dark by that rule alone)."""
+    from penumbra.generators import half_lit_panel
+    default = face_means(penumbra.solve(half_lit_panel(), threads=2), [0])[0].mean()
+    converged = face_means(
+        penumbra.solve(half_lit_panel(), threads=2, unshot_fraction=0.0), [0])[0].mean()
+    fraction = penumbra.settings.find("vtkPenumbraSolver", "UnshotFraction").default
+    assert abs(default / converged - 1.0) <= fraction
