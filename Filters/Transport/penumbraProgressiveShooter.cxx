@@ -469,16 +469,17 @@ void ProgressiveShooter::Internals::Receive(const std::vector<Receiver>& receive
 }
 
 /**
- * Whether the unshot power left could still add more than `fraction` of its
- * own reflected power to some lit surface (one reflecting at least
+ * Whether the unshot power left could still add more than UnshotFraction of
+ * its own reflected power to some lit surface (one reflecting at least
  * SettlingFloor of the reference power): the SettlingShooters strongest
  * shooters' unshot power times the disc estimate of their transfer. The
  * global target (UnshotFraction of the emitted power) stops too early for a
  * surface lit only by weak secondary light: the half-lit panel's floor,
  * which gets a small share of the emitted power, came out 0.26% dark.
  */
-bool ProgressiveShooter::Internals::SomeSurfaceUnsettled(double fraction, double reference) const
+bool ProgressiveShooter::Internals::SomeSurfaceUnsettled(double reference) const
 {
+  const double fraction = this->Settings.UnshotFraction;
   const int count = this->Samples.GetNumberOfSurfaces();
   std::vector<std::pair<double, int>> shooters;
   for (int j = 0; j < count; ++j)
@@ -759,11 +760,15 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     coarse = coarse || s.LinearPower;
   }
   int singles = 0;
-  // Past the global target, on while the light left matters to some surface.
-  while (!ShootingDone(this->GetTotalUnshotPower().Mean(), target, summary.Shots,
-           I.Settings.MaximumShots, summary.Reason) ||
-    (summary.Reason == StopReason::Converged && this->GetTotalUnshotPower().Mean() > 0.0 &&
-      I.SomeSurfaceUnsettled(I.Settings.UnshotFraction, reference)))
+  // Past the global target, on while the light left matters to some surface
+  // (within MaximumShots).
+  const auto done = [&]() {
+    const double unshot = this->GetTotalUnshotPower().Mean();
+    return ShootingDone(unshot, target, summary.Shots, I.Settings.MaximumShots, summary.Reason) &&
+      !(summary.Reason == StopReason::Converged && unshot > 0.0 &&
+        summary.Shots < I.Settings.MaximumShots && I.SomeSurfaceUnsettled(reference));
+  };
+  while (!done())
   {
     const int j = this->SelectShooter();
     if (j < 0)

@@ -89,7 +89,7 @@ struct ProgressiveShooter::Internals
     int shooter, const std::vector<Receiver>& receivers, const std::vector<RGB>* irradiance);
   void ExactReceivers(const std::vector<Receiver>& receivers, const std::vector<int>& which,
     int shooter, std::vector<RGB>& irradiance);
-  bool SomeSurfaceUnsettled(double fraction, double reference) const;
+  bool SomeSurfaceUnsettled(double reference) const;
 
   ExactEvaluator Exact;
   Scene SceneCopy;
