@@ -3,14 +3,17 @@
 """Display resampling: output size and accuracy of the uniform and the adaptive display.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Benchmarks/display_benchmark.py \\
-        [--scenes room1000 cornell strip occluder seven blind] [--tolerances 0.02 0.01 0.005]
+        [--scenes room1000 room1000direct cornell strip occluder seven blind]
+        [--tolerances 0.02 0.01 0.005] [--compact 0.001 0.002 0.005] [--compact-levels 2]
 
 Each scene is solved once with vtkPenumbraSolver's defaults (the direct-light scenes strip,
 occluder, seven and blind with the interreflections off; "room1000" is
-penumbra.generators.box_room(1000, seed=1), as in scale_benchmark.py), and the samples are
-reconstructed for display several times from the same solve: uniformly (DisplayTolerance 0,
-SubdivisionLevel 2: the display before DisplayTolerance; and 4), adaptively at each of
---tolerances, and densely as the reference. For each display it prints the output
+penumbra.generators.box_room(1000, seed=1), as in scale_benchmark.py, and "room1000direct"
+the same room with the interreflections off), and the samples are reconstructed for
+display several times from the same solve: uniformly (DisplayTolerance 0, SubdivisionLevel
+2: the dense display; and 4), adaptively at each of --tolerances, compacted from the uniform
+display of each of --compact-levels (SubdivisionLevel) at each of --compact
+(CompactTolerance), and densely as the reference. For each display it prints the output
 triangles, the size of the .vtp the command line writes (binary, zlib), the time of the
 reconstructor, and the displayed radiance (linear over the output triangles) at 4,000
 random points (area-weighted over all surfaces) against:
@@ -18,8 +21,8 @@ random points (area-weighted over all surfaces) against:
 - the same solve's dense display (uniform SubdivisionLevel 8; 6 for room1000, whose level 8
   would not fit in memory): the display's own error, everything else being equal. Its
   own deviation from the cubic is 1/16 (1/9) of level 2's;
-- for the direct-light scenes, exact values at 4,000 random floor points (as
-  defaults_benchmark.py --direct); for the Cornell box, the Mitsuba 3 reference (as
+- for the direct-light scenes (room1000direct too), exact values at 4,000 random floor
+  points (as defaults_benchmark.py --direct); for the Cornell box, the Mitsuba 3 reference (as
   compare_cornell.py): the whole solution's error, of which the display is one part.
 
 Errors are relative to the reference's mean over the points of the same surface, all
@@ -34,7 +37,7 @@ import time
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DIRECT = ("strip", "occluder", "seven", "blind")
+DIRECT = ("strip", "occluder", "seven", "blind", "room1000direct")
 POINTS = 4000
 
 
@@ -47,7 +50,8 @@ def stages_of(name):
     from penumbra.generators import box_room
     from penumbra.pipeline import build_pipeline
 
-    scene = box_room(1000, seed=1) if name == "room1000" else penumbra.load_scene(name)
+    room = name.startswith("room1000")
+    scene = box_room(1000, seed=1) if room else penumbra.load_scene(name)
     source = vtkTrivialProducer()
     source.SetOutput(scene)
     direct = name in DIRECT
@@ -57,7 +61,7 @@ def stages_of(name):
     return scene, last
 
 
-def display(samples, tolerance, level):
+def display(samples, tolerance, level, compact=0.0):
     """The reconstructor's output from the solved samples, and its time."""
     import penumbra
     from vtkmodules.vtkCommonDataModel import vtkPolyData
@@ -66,6 +70,7 @@ def display(samples, tolerance, level):
     reconstructor.SetInputConnection(samples.GetOutputPort())
     reconstructor.SetDisplayTolerance(tolerance)
     reconstructor.SetSubdivisionLevel(level)
+    reconstructor.SetCompactTolerance(compact)
     start = time.perf_counter()
     output = penumbra.run_filter(reconstructor)
     seconds = time.perf_counter() - start
@@ -92,6 +97,9 @@ def main(argv=None):
     parser.add_argument("--scenes", nargs="+",
                         default=["room1000", "cornell"] + list(DIRECT))
     parser.add_argument("--tolerances", nargs="+", type=float, default=[0.02, 0.01, 0.005])
+    parser.add_argument("--compact", nargs="+", type=float, default=[0.001, 0.002, 0.005])
+    parser.add_argument("--compact-levels", nargs="+", type=int, default=[2],
+                        help="the uniform levels the compact displays are merged from")
     parser.add_argument("--threads", type=int, default=2)
     args = parser.parse_args(argv)
     from vtkmodules.vtkCommonCore import vtkSMPTools
@@ -106,16 +114,18 @@ def main(argv=None):
     print("| --- | --- | --- | --- | --- | --- | --- |")
     for name in args.scenes:
         scene, samples = stages_of(name)
-        dense, _ = display(samples, 0.0, 6 if name == "room1000" else 8)
+        dense, _ = display(samples, 0.0, 6 if name.startswith("room1000") else 8)
         reference = random_points(dense, POINTS)
         del dense
         if name in DIRECT:
             floor = floor_points(scene, POINTS)
             exact = exact_radiance(scene, floor)
-        displays = ([("uniform 2", 0.0, 2), ("uniform 4", 0.0, 4)]
-                    + [("tolerance %g" % t, t, 2) for t in args.tolerances])
-        for label, tolerance, level in displays:
-            result, seconds = display(samples, tolerance, level)
+        displays = ([("uniform 2", 0.0, 2, 0.0), ("uniform 4", 0.0, 4, 0.0)]
+                    + [("tolerance %g" % t, t, 2, 0.0) for t in args.tolerances]
+                    + [("compact %g from %d" % (c, level), 0.0, level, c)
+                       for level in args.compact_levels for c in args.compact])
+        for label, tolerance, level, compact in displays:
+            result, seconds = display(samples, tolerance, level, compact)
             against = "%.3g%% / %.3g%% / %.3g%%" % statistics(errors(result, reference))
             if name in DIRECT:
                 shown = displayed_radiance(result, floor)

@@ -5,13 +5,15 @@ boxes (penumbra.generators.box_room) of N polygons.
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 \\
         Benchmarks/scale_benchmark.py [--sizes 1000 5000 20000] [--threads 2] \\
-        [--runs 3] [--indirect-samples N] [--no-reuse] [--unshot-fraction F]
+        [--runs 3] [--indirect-samples N] [--no-reuse] [--unshot-fraction F] \\
+        [--compact-tolerance T]
 
 Each size runs in its own process (so peak memory is that solve's alone):
 penumbra.solve(scene) with the solver's defaults, i.e. direct light plus
 interreflections until UnshotFraction of the emitted power is left unshot
 (--unshot-fraction sets it). Prints a
 Markdown table (polygons, wall time, peak resident memory, stage times,
+output triangles and the size of the .vtp the command line writes,
 points shot on, shots, the escaped and residual power as fractions of the
 emitted: a box room is closed, so escaped should be 0)
 and the least-squares growth exponents of time and memory against the
@@ -21,7 +23,8 @@ medians, with the range of the wall times
 (default build/benchmarks). Targets: 20,000 polygons in under
 5 minutes and 4 GB on 2 cores. --indirect-samples sets the solver's
 MaximumIndirectSamples; --no-reuse turns its ReuseTransport off (weak
-shots one orientation at a time, each tracing its rays).
+shots one orientation at a time, each tracing its rays); --compact-tolerance sets
+CompactTolerance (0: the dense display).
 """
 import argparse
 import json
@@ -29,6 +32,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -56,9 +60,15 @@ def run_child(polygons, threads, seed, settings):
     ordered = sorted(starts.items(), key=lambda item: item[1]) + [("end", end)]
     stages = {name: ordered[k + 1][1] - begin for k, (name, begin) in enumerate(ordered[:-1])}
     field = result.GetFieldData()
+    from penumbra.export import write_vtp
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "result.vtp")
+        write_vtp(result, path)
+        vtp_mb = os.path.getsize(path) / 1e6
     print(json.dumps({
         "polygons": scene.GetNumberOfCells(), "seconds": seconds, "peak_mb": peak_memory_mb(),
         "stages": stages, "output_points": result.GetNumberOfPoints(),
+        "output_triangles": result.GetNumberOfPolys(), "vtp_mb": vtp_mb,
         "indirect_samples": int(field.GetArray("IndirectSamples").GetValue(0)),
         "shots": int(field.GetArray("Shots").GetValue(0)),
         "unshot": field.GetArray("UnshotFraction").GetValue(0),
@@ -95,6 +105,8 @@ def main():
                         help="ReuseTransport off (default: the solver's, on)")
     parser.add_argument("--unshot-fraction", type=float,
                         help="UnshotFraction (default: the solver's)")
+    parser.add_argument("--compact-tolerance", type=float,
+                        help="CompactTolerance (default: the solver's; 0: the dense display)")
     parser.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child is not None:
@@ -105,14 +117,16 @@ def main():
             settings["reuse_transport"] = False
         if args.unshot_fraction is not None:
             settings["unshot_fraction"] = args.unshot_fraction
+        if args.compact_tolerance is not None:
+            settings["compact_tolerance"] = args.compact_tolerance
         run_child(args.child, args.threads, args.seed, settings)
         return 0
 
     rows = []
     print("| polygons | time (s, range) | peak memory (MB) | mesher / evaluator / shooter / "
-          "reconstructor (s) | output points | points shot on | shots | unshot left | "
-          "escaped | residual |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+          "reconstructor (s) | output points | output triangles | .vtp (MB) | points shot on | "
+          "shots | unshot left | escaped | residual |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for size in args.sizes:
         command = [sys.executable, os.path.abspath(__file__), "--child", str(size),
                    "--threads", str(args.threads), "--seed", str(args.seed)]
@@ -122,17 +136,19 @@ def main():
             command.append("--no-reuse")
         if args.unshot_fraction is not None:
             command += ["--unshot-fraction", repr(args.unshot_fraction)]
+        if args.compact_tolerance is not None:
+            command += ["--compact-tolerance", repr(args.compact_tolerance)]
         runs = []
         for _ in range(max(1, args.runs)):
             try:
                 done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                       universal_newlines=True, timeout=args.timeout)
             except subprocess.TimeoutExpired:
-                print("| %d | > %.0f (stopped) | | | | | | | | |" % (size, args.timeout),
+                print("| %d | > %.0f (stopped) | | | | | | | | | | |" % (size, args.timeout),
                       flush=True)
                 break
             if done.returncode != 0:
-                print("| %d | failed: %s | | | | | | | | |" % (
+                print("| %d | failed: %s | | | | | | | | | | |" % (
                     size, (done.stderr.strip().splitlines() or ["?"])[-1]), flush=True)
                 break
             runs.append(json.loads(done.stdout.strip().splitlines()[-1]))
@@ -149,9 +165,9 @@ def main():
                            ("mesher", "evaluator", "shooter", "reconstructor"))
         spread = "" if len(runs) == 1 else " (%.1f-%.1f)" % (
             min(r["seconds"] for r in runs), max(r["seconds"] for r in runs))
-        print("| %d | %.1f%s | %.0f | %s | %d | %d | %d | %.4f | %.2e | %.2e |" % (
+        print("| %d | %.1f%s | %.0f | %s | %d | %d | %.1f | %d | %d | %.4f | %.2e | %.2e |" % (
             row["polygons"], row["seconds"], spread, row["peak_mb"], stage, row["output_points"],
-            row["indirect_samples"], row["shots"], row["unshot"], row["escaped"],
+            row["output_triangles"], row["vtp_mb"], row["indirect_samples"], row["shots"], row["unshot"], row["escaped"],
             row["residual"]), flush=True)
     if not rows:
         return 1
@@ -181,7 +197,9 @@ def main():
                                    ", transport not reused" if args.no_reuse else "")
     axis.set_title("%s, %d threads%s%s" % (
         label, args.threads,
-        "" if args.unshot_fraction is None else ", unshot %g" % args.unshot_fraction, ", median of %d" % args.runs if args.runs > 1 else ""))
+        "" if args.unshot_fraction is None else ", unshot %g" % args.unshot_fraction,
+        "" if args.compact_tolerance is None else ", compact %g" % args.compact_tolerance)
+        + (", median of %d" % args.runs if args.runs > 1 else ""))
     axis.legend()
     axis.grid(True, which="both", alpha=0.3)
     path = os.path.join(args.out, "scale.png")

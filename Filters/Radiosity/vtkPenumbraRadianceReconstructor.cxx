@@ -37,6 +37,7 @@ vtkPenumbraRadianceReconstructor::vtkPenumbraRadianceReconstructor()
   this->Mode = interpolant.Mode == penumbra::ReconstructionMode::Linear ? LINEAR : CLOUGH_TOCHER;
   this->EnforceNonNegativity = interpolant.EnforceNonNegativity;
   this->DisplayTolerance = display.DisplayTolerance;
+  this->CompactTolerance = display.CompactTolerance;
   this->SubdivisionLevel = display.SubdivisionLevel;
   this->TargetEdgeLength = display.TargetEdgeLength;
   this->ComputeErrorEstimate = display.ComputeErrorEstimate;
@@ -405,6 +406,7 @@ int vtkPenumbraRadianceReconstructor::Execute(
   options.EnforceNonNegativity = this->EnforceNonNegativity;
   penumbra::ResampleOptions resample;
   resample.DisplayTolerance = this->DisplayTolerance;
+  resample.CompactTolerance = this->CompactTolerance;
   resample.SubdivisionLevel = this->SubdivisionLevel;
   resample.TargetEdgeLength = this->TargetEdgeLength;
   resample.ComputeErrorEstimate = this->ComputeErrorEstimate;
@@ -441,6 +443,7 @@ void vtkPenumbraRadianceReconstructor::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Mode: " << (this->Mode == LINEAR ? "LINEAR" : "CLOUGH_TOCHER") << "\n";
   os << indent << "DisplayTolerance: " << this->DisplayTolerance << "\n";
+  os << indent << "CompactTolerance: " << this->CompactTolerance << "\n";
   os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
   os << indent << "TargetEdgeLength: " << this->TargetEdgeLength << "\n";
   os << indent << "EnforceNonNegativity: " << (this->EnforceNonNegativity ? "On" : "Off") << "\n";

@@ -79,6 +79,19 @@ public:
 
   ///@{
   /**
+   * Compact output: after the display resampling, output triangles are
+   * merged wherever the displayed radiance stays within this fraction of
+   * the surface's mean radiance of every output point it removes; the
+   * outline and the discontinuity lines keep their shape (see
+   * penumbra::ResampleOptions::CompactTolerance). Default 0 (the dense display), range
+   * [0, 1]; 1e-3 to 1e-2 are measured in Documentation/benchmarks.md.
+   */
+  vtkSetClampMacro(CompactTolerance, double, 0.0, 1.0);
+  vtkGetMacro(CompactTolerance, double);
+  ///@}
+
+  ///@{
+  /**
    * Uniform display resampling, when DisplayTolerance is 0: each input
    * triangle edge is divided into this many pieces (level s gives s*s output
    * triangles per input triangle). Default 2, range [1, 64]. Ignored when
@@ -128,6 +141,7 @@ protected:
 
   int Mode;
   double DisplayTolerance;
+  double CompactTolerance;
   int SubdivisionLevel;
   double TargetEdgeLength;
   bool EnforceNonNegativity;

@@ -54,6 +54,7 @@ vtkPenumbraSolver::vtkPenumbraSolver()
   this->ReuseTransport = transport.Shooting.ReuseTransport;
   this->MaximumIndirectSamples = static_cast<vtkIdType>(transport.MaximumIndirectSamples);
   this->DisplayTolerance = display.DisplayTolerance;
+  this->CompactTolerance = display.CompactTolerance;
   this->SubdivisionLevel = display.SubdivisionLevel;
   this->SecondaryShooterFraction = transport.SecondaryShooterFraction;
 }
@@ -175,6 +176,7 @@ int vtkPenumbraSolver::Execute(
   reconstructor->SetInputConnection(
     this->Indirect ? shooter->GetOutputPort() : evaluator->GetOutputPort());
   reconstructor->SetDisplayTolerance(this->DisplayTolerance);
+  reconstructor->SetCompactTolerance(this->CompactTolerance);
   reconstructor->SetSubdivisionLevel(this->SubdivisionLevel);
 
   // Shares of the progress bar: about the shares of the time on the Cornell box.
@@ -310,6 +312,8 @@ int vtkPenumbraSolver::Execute(
            << " SamplingTolerance=" << this->SamplingTolerance
            << " MaximumSamples=" << this->MaximumSamples << " MinimumAngle=" << this->MinimumAngle
            << " SubdivisionLevel=" << this->SubdivisionLevel
+           << " DisplayTolerance=" << this->DisplayTolerance
+           << " CompactTolerance=" << this->CompactTolerance
            << " SecondaryShooterFraction=" << this->SecondaryShooterFraction;
   vtkNew<vtkStringArray> record;
   record->SetName("SolverSettings");
@@ -331,6 +335,7 @@ void vtkPenumbraSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumSamples: " << this->MaximumSamples << "\n";
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
   os << indent << "DisplayTolerance: " << this->DisplayTolerance << "\n";
+  os << indent << "CompactTolerance: " << this->CompactTolerance << "\n";
   os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
   os << indent << "SecondaryShooterFraction: " << this->SecondaryShooterFraction << "\n";
 }

@@ -150,6 +150,19 @@ public:
 
   ///@{
   /**
+   * Compact output: output triangles are merged wherever the displayed
+   * radiance stays within this fraction of the surface's mean radiance of
+   * every output point they remove
+   * (vtkPenumbraRadianceReconstructor::CompactTolerance). Default 0
+   * (the dense display), range [0, 1]; 1e-3 to 1e-2 are measured in
+   * Documentation/benchmarks.md.
+   */
+  vtkSetClampMacro(CompactTolerance, double, 0.0, 1.0);
+  vtkGetMacro(CompactTolerance, double);
+  ///@}
+
+  ///@{
+  /**
    * Uniform display resampling, when DisplayTolerance is 0: each sample
    * triangle's edges are cut in this many pieces
    * (vtkPenumbraRadianceReconstructor::SubdivisionLevel). Default 2, range
@@ -174,6 +187,7 @@ protected:
   bool ReuseTransport;
   double MinimumAngle;
   double DisplayTolerance;
+  double CompactTolerance;
   int SubdivisionLevel;
   double SecondaryShooterFraction;
 

@@ -21,6 +21,12 @@ namespace
 constexpr double FitRankThreshold = 1e-6;
 // The cubic error model needs at least this many neighbours (9 unknowns).
 constexpr int CubicModelPoints = 12;
+// A neighbour closer to the fitted point than this fraction of the stencil's
+// radius carries no derivative information: it is a duplicate, or the twin
+// of a point across a discontinuity whose two sides the mesher placed a
+// rounding error apart, and its value difference over that distance would
+// dictate the gradient (the rows are weighted by the inverse distance).
+constexpr double CoincidentFraction = 1e-4;
 
 } // namespace
 
@@ -28,7 +34,8 @@ constexpr int CubicModelPoints = 12;
 // Points around sector s on its side of every constraint: the sector's
 // triangles, then ring by ring the triangles of the sectors of the points
 // reached (never across a constrained edge or a cut), until at least
-// `minPoints` points or `maxRings` rings. The sector's own point is excluded.
+// `minPoints` points or `maxRings` rings. The sector's own point is excluded,
+// and so are points within CoincidentFraction of the stencil's radius of it.
 void Reconstruction::Internals::GatherNeighbours(
   int s, int minPoints, int maxRings, FitWorkspace& w) const
 {
@@ -76,6 +83,21 @@ void Reconstruction::Internals::GatherNeighbours(
     }
     ringBegin = ringEnd;
   }
+  const double* pv = this->P(this->SectorPoint[s]);
+  auto distance2 = [&](int q) {
+    const double du = this->P(q)[0] - pv[0];
+    const double dv = this->P(q)[1] - pv[1];
+    return du * du + dv * dv;
+  };
+  double h2 = 0.0;
+  for (const int q : w.Points)
+  {
+    h2 = std::max(h2, distance2(q));
+  }
+  const double nearest2 = CoincidentFraction * CoincidentFraction * h2;
+  w.Points.erase(std::remove_if(w.Points.begin(), w.Points.end(),
+                   [&](int q) { return !(distance2(q) > nearest2); }),
+    w.Points.end());
 }
 
 //------------------------------------------------------------------------------

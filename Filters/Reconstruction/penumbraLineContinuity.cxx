@@ -24,6 +24,12 @@ namespace
 // of the angle between them is below this (about 5.7 degrees): solving for
 // both directional derivatives separately would then be ill-conditioned.
 constexpr double CollinearSine = 0.1;
+// The three-point derivative along a line divides by the shorter of its two
+// spacings: when that one is below this fraction of the longer (a point
+// placed a rounding error from its neighbour, as where two sides of a
+// discontinuity meet), the difference would be noise over a vanishing
+// distance, and the fitted gradients are used instead.
+constexpr double SpacingRatio = 1e-2;
 
 } // namespace
 
@@ -90,17 +96,24 @@ double Reconstruction::Internals::LineDerivative(int v, int edge, int channel) c
     const double* pb = this->P(back);
     const double a = std::hypot(pb[0] - pv[0], pb[1] - pv[1]);
     const double b = L;
-    const double fb = this->Value(back, channel);
-    return (a * a * (fw - fv) + b * b * (fv - fb)) / (a * b * (a + b));
+    if (std::min(a, b) >= SpacingRatio * std::max(a, b))
+    {
+      const double fb = this->Value(back, channel);
+      return (a * a * (fw - fv) + b * b * (fv - fb)) / (a * b * (a + b));
+    }
   }
   int beyond = -1;
   if (straightContinuation(w, edge, tu, tv, beyond) >= 0 && beyond != v)
   {
     const double* pb = this->P(beyond);
     const double b = L;
-    const double c = L + std::hypot(pb[0] - pw[0], pb[1] - pw[1]);
-    const double fb = this->Value(beyond, channel);
-    return (c * c * (fw - fv) - b * b * (fb - fv)) / (b * c * (c - b));
+    const double next = std::hypot(pb[0] - pw[0], pb[1] - pw[1]);
+    if (std::min(b, next) >= SpacingRatio * std::max(b, next))
+    {
+      const double c = L + next;
+      const double fb = this->Value(beyond, channel);
+      return (c * c * (fw - fv) - b * b * (fb - fv)) / (b * c * (c - b));
+    }
   }
   // Mean of the two sides' fitted gradients along the edge.
   double sum = 0.0;

@@ -9,6 +9,7 @@
  * constrained edges traced as polylines of output points.
  */
 #include "penumbraReconstructionInternals.h"
+#include "penumbraDisplayDecimation.h"
 #include "penumbraErrorModel.h"
 #include "penumbraSampleMeshTopology.h"
 #include "penumbraScene.h" // InputError
@@ -49,6 +50,11 @@ void CheckResampleOptions(const ResampleOptions& options)
   {
     throw InputError("Reconstruction: MaximumSubdivisionLevel is " +
       std::to_string(options.MaximumSubdivisionLevel) + ", must be in [1, 1024]");
+  }
+  if (!(options.CompactTolerance >= 0.0 && options.CompactTolerance <= 1.0))
+  {
+    throw InputError("Reconstruction: CompactTolerance is " +
+      std::to_string(options.CompactTolerance) + ", must be in [0, 1]");
   }
 }
 
@@ -843,6 +849,7 @@ void Reconstruction::Resample(const ResampleOptions& options, ResampledMesh& out
     }
   }
   resampler.Run();
+  DecimateDisplay(output, options.CompactTolerance);
 }
 
 } // namespace penumbra

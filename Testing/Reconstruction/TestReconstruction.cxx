@@ -330,6 +330,7 @@ PENUMBRA_TEST(TestQuadraticExact)
 
     // Resampled values are exact too.
     ResampleOptions ro;
+    ro.CompactTolerance = 0.0; // the uniform display itself
     ro.SubdivisionLevel = 3;
     ro.DisplayTolerance = 0.0; // uniform
     ResampledMesh out;
@@ -639,6 +640,7 @@ PENUMBRA_TEST(TestJump)
   Reconstruction r;
   r.Build(mesh);
   ResampleOptions ro;
+  ro.CompactTolerance = 0.0; // the uniform display itself
   ro.SubdivisionLevel = 3;
   ro.DisplayTolerance = 0.0; // uniform
   ResampledMesh out;
@@ -802,6 +804,7 @@ PENUMBRA_TEST(TestNonNegativity)
       }
       double lowest = 0.0;
       ResampleOptions ro;
+      ro.CompactTolerance = 0.0; // the uniform display itself
       ro.SubdivisionLevel = 6;
       ro.DisplayTolerance = 0.0; // uniform
       ro.ComputeErrorEstimate = false;
@@ -1056,7 +1059,7 @@ void CheckResampledMesh(const SampleMesh& in, const ResampledMesh& out, const ch
         const double len2 = eu * eu + ev * ev;
         const double s = ((mu - a[0]) * eu + (mv - a[1]) * ev) / len2;
         const double d = std::abs((mu - a[0]) * ev - (mv - a[1]) * eu) / std::sqrt(len2);
-        if (s > 0.0 && s < 1.0 && d < 1e-12)
+        if (s >= 0.0 && s <= 1.0 && d < 1e-12)
         {
           on = true;
           break;
@@ -1091,6 +1094,7 @@ PENUMBRA_TEST(TestResample)
   r.Build(mesh);
   // Level 1 returns the input triangles and values.
   ResampleOptions ro;
+  ro.CompactTolerance = 0.0; // the uniform display itself
   ro.SubdivisionLevel = 1;
   ro.DisplayTolerance = 0.0; // uniform
   ResampledMesh out;
@@ -1292,6 +1296,7 @@ PENUMBRA_TEST(TestAdaptiveResample)
   r.Build(mesh);
   const int nt = mesh.GetNumberOfTriangles();
   ResampleOptions ro;
+  ro.CompactTolerance = 0.0; // the uniform display itself
   ResampledMesh out;
   ro.DisplayTolerance = 0.0;
   ro.SubdivisionLevel = 2;
@@ -1411,6 +1416,7 @@ Calibration Calibrate(const Reconstruction& r, const std::function<double(double
     // display of the map falls between its peaks in the shadow case (0.74
     // covered): the map is meant to be read at a fine display.
     ResampleOptions ro;
+    ro.CompactTolerance = 0.0; // the uniform display itself
     ro.SubdivisionLevel = 4;
     ro.DisplayTolerance = 0.0; // uniform
     r.Resample(ro, out);
@@ -1502,6 +1508,7 @@ PENUMBRA_TEST(TestErrorEstimate)
     PENUMBRA_EXPECT_NEAR(bounds[5], 0.2, 1e-12);
     PENUMBRA_EXPECT(bounds[4] < 1e-10);
     ResampleOptions ro;
+    ro.CompactTolerance = 0.0; // the uniform display itself
     ro.SubdivisionLevel = 2;
     ro.DisplayTolerance = 0.0; // uniform
     ResampledMesh out;
@@ -1610,6 +1617,257 @@ PENUMBRA_TEST(TestErrorEstimate)
 }
 
 //------------------------------------------------------------------------------
+// Split edge (a, b) of `mesh` at a new point `fraction` of the way from a,
+// with the value `value`: both triangles on the edge are split, and a
+// constrained edge (a, b) becomes two. Returns the new point.
+int SplitEdgeNear(SampleMesh& mesh, int a, int b, double fraction, const double* value)
+{
+  const double u = mesh.Points[2 * a] + fraction * (mesh.Points[2 * b] - mesh.Points[2 * a]);
+  const double v =
+    mesh.Points[2 * a + 1] + fraction * (mesh.Points[2 * b + 1] - mesh.Points[2 * a + 1]);
+  const int r = mesh.AddPoint(u, v, value);
+  const int triangles = mesh.GetNumberOfTriangles();
+  for (int t = 0; t < triangles; ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      int* tri = &mesh.Triangles[3 * t];
+      const int p = tri[k], q = tri[(k + 1) % 3], x = tri[(k + 2) % 3];
+      if ((p == a && q == b) || (p == b && q == a))
+      {
+        tri[0] = p;
+        tri[1] = r;
+        tri[2] = x;
+        mesh.AddTriangle(r, q, x);
+        break;
+      }
+    }
+  }
+  const int edges = static_cast<int>(mesh.EdgeOrders.size());
+  for (int e = 0; e < edges; ++e)
+  {
+    int* edge = &mesh.ConstrainedEdges[2 * e];
+    if ((edge[0] == a && edge[1] == b) || (edge[0] == b && edge[1] == a))
+    {
+      const int far = edge[1];
+      edge[1] = r;
+      mesh.ConstrainedEdges.push_back(r);
+      mesh.ConstrainedEdges.push_back(far);
+      mesh.EdgeOrders.push_back(mesh.EdgeOrders[e]);
+    }
+  }
+  return r;
+}
+
+//------------------------------------------------------------------------------
+// A point a rounding error (1e-9) from another, with a value off by 2% of the
+// range (as where two sides of a discontinuity meet and the mesher leaves
+// them unseparated): on a constrained line and off it, the display stays
+// within the values' range (the derivatives ignore the vanishing distance
+// instead of dividing the difference by it).
+PENUMBRA_TEST(TestNearCoincidentPoints)
+{
+  std::printf("-- near-coincident points\n");
+  const Field field = [](double u, double v, double* f) { f[0] = 1.0 + u + 0.5 * v; };
+  for (const bool onLine : { true, false })
+  {
+    GridSpec spec;
+    spec.Us = UniformColumns(8);
+    spec.Rows = 8;
+    spec.Jitter = 0.0;
+    spec.ExtraLines = { 4 };
+    SampleMesh mesh = MakeGrid(spec, field, field);
+    // The edge to split: on the line u = 0.5 (from its point at v = 0.5
+    // upward), or an unconstrained one beside it.
+    const double u0 = onLine ? 0.5 : 0.625;
+    int a = -1, b = -1;
+    for (int p = 0; p < mesh.GetNumberOfPoints(); ++p)
+    {
+      const double du = mesh.Points[2 * p] - u0, dv = mesh.Points[2 * p + 1] - 0.5;
+      a = std::abs(du) < 1e-12 && std::abs(dv) < 1e-12 ? p : a;
+      b = std::abs(du) < 1e-12 && std::abs(dv - 0.125) < 1e-12 ? p : b;
+    }
+    bool adjacent = false;
+    for (int t = 0; t < mesh.GetNumberOfTriangles(); ++t)
+    {
+      const int* tri = &mesh.Triangles[3 * t];
+      adjacent = adjacent || ((tri[0] == a || tri[1] == a || tri[2] == a) &&
+                               (tri[0] == b || tri[1] == b || tri[2] == b));
+    }
+    PENUMBRA_EXPECT(a >= 0 && b >= 0 && adjacent);
+    if (!(a >= 0 && b >= 0 && adjacent))
+    {
+      continue;
+    }
+    double value = 0.0;
+    field(u0, 0.5, &value);
+    value += 0.02 * 1.5; // 2% of the range 1 .. 2.5
+    SplitEdgeNear(mesh, a, b, 1e-9 / 0.125, &value);
+    Reconstruction r;
+    r.Build(mesh);
+    ResampleOptions ro;
+    ro.SubdivisionLevel = 4;
+    ro.ComputeErrorEstimate = false;
+    ResampledMesh out;
+    r.Resample(ro, out);
+    double lo = 1e300, hi = -1e300;
+    for (const double f : out.Values)
+    {
+      lo = std::min(lo, f);
+      hi = std::max(hi, f);
+    }
+    std::printf("%s: display range [%.4f, %.4f] (values 1 .. 2.5)\n",
+      onLine ? "on a constrained line" : "off the lines", lo, hi);
+    PENUMBRA_EXPECT(lo >= 1.0 - 0.05 && hi <= 2.5 + 0.05);
+  }
+}
+
+//------------------------------------------------------------------------------
+// CompactTolerance: the merged display is as watertight as the dense one,
+// within the tolerance of every dense output point it removed (checked by
+// locating each one in the merged mesh, against a mean computed here), keeps
+// the constrained edges' polylines on their lines, and merges more at a
+// larger tolerance.
+PENUMBRA_TEST(TestCompactDisplay)
+{
+  std::printf("-- compact display\n");
+  const Field bump = [](double u, double v, double* out) {
+    out[0] = 1.0 + 4.0 * std::exp(-((u - 0.7) * (u - 0.7) + (v - 0.5) * (v - 0.5)) / 0.02);
+    out[1] = 0.1 * (1.0 + u * v);
+  };
+  const Field slope = [](double u, double v, double* out) {
+    out[0] = 2.0 + 0.5 * u - 0.3 * v;
+    out[1] = 0.05;
+  };
+  GridSpec spec;
+  spec.Us = SplitColumns(0.4, 5, 7, &spec.LineColumn);
+  spec.Rows = 12;
+  spec.Cut = true; // a jump along the split line: its points are doubled
+  spec.Jitter = 0.3;
+  spec.Channels = 2;
+  spec.ExtraLines = { 8 };
+  const SampleMesh mesh = MakeGrid(spec, slope, bump);
+  Reconstruction r;
+  r.Build(mesh);
+  ResampleOptions ro;
+  ro.CompactTolerance = 0.0; // the uniform display itself
+  ro.SubdivisionLevel = 4;
+  ResampledMesh dense;
+  r.Resample(ro, dense);
+  const int nc = dense.NumberOfChannels;
+  // The dense display's area mean of |value| per channel.
+  std::vector<double> mean(nc, 0.0);
+  double area = 0.0;
+  for (int t = 0; t < dense.GetNumberOfTriangles(); ++t)
+  {
+    const int* tri = &dense.Triangles[3 * t];
+    const double* a = &dense.Points[2 * tri[0]];
+    const double* b = &dense.Points[2 * tri[1]];
+    const double* c = &dense.Points[2 * tri[2]];
+    const double w = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    area += w;
+    for (int j = 0; j < nc; ++j)
+    {
+      mean[j] += w *
+        (std::abs(dense.Values[tri[0] * nc + j]) + std::abs(dense.Values[tri[1] * nc + j]) +
+          std::abs(dense.Values[tri[2] * nc + j])) / 3.0;
+    }
+  }
+  for (double& m : mean)
+  {
+    m /= area;
+  }
+  ResampledMesh same;
+  ro.CompactTolerance = 0.0;
+  r.Resample(ro, same);
+  PENUMBRA_EXPECT(same.Triangles == dense.Triangles && same.Values == dense.Values);
+  int previous = dense.GetNumberOfTriangles() + 1;
+  for (const double tolerance : { 1e-4, 1e-3, 1e-2 })
+  {
+    ro.CompactTolerance = tolerance;
+    ResampledMesh compact;
+    r.Resample(ro, compact);
+    char what[64];
+    std::snprintf(what, sizeof(what), "compact tolerance %g", tolerance);
+    CheckResampledMesh(mesh, compact, what);
+    PENUMBRA_EXPECT(compact.GetNumberOfTriangles() < previous);
+    previous = compact.GetNumberOfTriangles();
+    PENUMBRA_EXPECT(compact.SourceTriangle.size() == compact.Triangles.size() / 3);
+    PENUMBRA_EXPECT(compact.SourcePoint.size() == compact.Points.size() / 2);
+    // Every dense point: the merged display there (where a jump doubles a
+    // point, the side that shows it best) within the tolerance.
+    double worst = 0.0;
+    for (int p = 0; p < dense.GetNumberOfPoints(); ++p)
+    {
+      const double u = dense.Points[2 * p], v = dense.Points[2 * p + 1];
+      double best = 1e300;
+      for (int t = 0; t < compact.GetNumberOfTriangles(); ++t)
+      {
+        const int* tri = &compact.Triangles[3 * t];
+        const double* p0 = &compact.Points[2 * tri[0]];
+        const double* p1 = &compact.Points[2 * tri[1]];
+        const double* p2 = &compact.Points[2 * tri[2]];
+        const double twice = (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]);
+        const double l1 = ((p2[0] - p0[0]) * (p0[1] - v) - (p2[1] - p0[1]) * (p0[0] - u)) / twice;
+        const double l2 = ((p0[0] - u) * (p1[1] - p0[1]) - (p0[1] - v) * (p1[0] - p0[0])) / twice;
+        const double l0 = 1.0 - l1 - l2;
+        if (std::min(l0, std::min(l1, l2)) < -1e-9)
+        {
+          continue;
+        }
+        double error = 0.0;
+        for (int j = 0; j < nc; ++j)
+        {
+          const double shown = l0 * compact.Values[tri[0] * nc + j] +
+            l1 * compact.Values[tri[1] * nc + j] + l2 * compact.Values[tri[2] * nc + j];
+          error = std::max(error, std::abs(shown - dense.Values[p * nc + j]) / mean[j]);
+        }
+        best = std::min(best, error);
+      }
+      worst = std::max(worst, best);
+    }
+    // The lines: the same end points, every point on the dense polyline.
+    bool linesKept = compact.LineOffsets.size() == dense.LineOffsets.size();
+    for (std::size_t e = 0; linesKept && e + 1 < dense.LineOffsets.size(); ++e)
+    {
+      const int df = dense.LineOffsets[e], dl = dense.LineOffsets[e + 1];
+      const int cf = compact.LineOffsets[e], cl = compact.LineOffsets[e + 1];
+      if (dl - df < 2)
+      {
+        continue;
+      }
+      linesKept = cl - cf >= 2;
+      for (int k = cf; linesKept && k < cl; ++k)
+      {
+        const int q = compact.LinePoints[k];
+        bool found = false;
+        for (int i = df; i < dl && !found; ++i)
+        {
+          const int d = dense.LinePoints[i];
+          found = dense.Points[2 * d] == compact.Points[2 * q] &&
+            dense.Points[2 * d + 1] == compact.Points[2 * q + 1];
+        }
+        linesKept = found;
+      }
+      const int ends[2][2] = { { dense.LinePoints[df], compact.LinePoints[cf] },
+        { dense.LinePoints[dl - 1], compact.LinePoints[cl - 1] } };
+      for (const auto& end : ends)
+      {
+        linesKept = linesKept && dense.Points[2 * end[0]] == compact.Points[2 * end[1]] &&
+          dense.Points[2 * end[0] + 1] == compact.Points[2 * end[1] + 1];
+      }
+    }
+    std::printf("compact tolerance %g: %d of %d triangles, largest error at a dense point "
+                "%.3g of the mean (%.2f of the tolerance), lines kept %d\n",
+      tolerance, compact.GetNumberOfTriangles(), dense.GetNumberOfTriangles(), worst,
+      worst / tolerance, linesKept ? 1 : 0);
+    PENUMBRA_EXPECT(worst <= tolerance * (1.0 + 1e-9));
+    PENUMBRA_EXPECT(linesKept);
+  }
+  ro.CompactTolerance = 1.5;
+  PENUMBRA_EXPECT_THROW(r.Resample(ro, dense), InputError, "CompactTolerance");
+}
+
 PENUMBRA_TEST(TestBadInput)
 {
   std::printf("-- bad input\n");
@@ -1649,6 +1907,7 @@ PENUMBRA_TEST(TestBadInput)
   o.MinimumFitPoints = 2;
   PENUMBRA_EXPECT_THROW(r.Build(m, o), InputError, "MinimumFitPoints");
   ResampleOptions ro;
+  ro.CompactTolerance = 0.0; // the uniform display itself
   ro.SubdivisionLevel = 0;
   ResampledMesh out;
   r.Build(m);

@@ -26,7 +26,7 @@ from xml.sax.saxutils import escape, quoteattr
 # keep their defaults.
 SOLVER_SETTINGS = ("Indirect", "UnshotFraction", "SamplingTolerance", "ExactPowerFraction",
                    "MaximumIndirectSamples", "MaximumSamples", "SecondaryShooterFraction",
-                   "ReuseTransport", "MinimumAngle", "DisplayTolerance",
+                   "ReuseTransport", "MinimumAngle", "DisplayTolerance", "CompactTolerance",
                    "SubdivisionLevel")
 METHODS = ("discontinuity", "standard")
 

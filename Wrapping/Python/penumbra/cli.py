@@ -165,7 +165,8 @@ def _command_solve(args):
                     else "vtkPenumbraSolver")
     if args.method == "standard":
         for given, option in ((args.direct_only, "--direct-only"),
-                              (args.quality, "--quality"), (args.tolerance, "--tolerance")):
+                              (args.quality, "--quality"), (args.tolerance, "--tolerance"),
+                              (args.compact is not None, "--compact")):
             if given:
                 return _fail("%s applies to the discontinuity method only" % option,
                              USAGE_ERROR)
@@ -175,6 +176,8 @@ def _command_solve(args):
     else:
         settings["indirect"] = not args.direct_only
         settings["sampling_tolerance"] = args.tolerance
+        if args.compact is not None:
+            settings["compact_tolerance"] = args.compact
     for text in args.set or ():  # last: --set Indirect=off means what it says
         name, value = filter_settings.parse(solver_class, text)
         settings[name] = value
@@ -313,6 +316,15 @@ def build_parser():
                             "light (SamplingTolerance), in %s (default %s); smaller is more "
                             "accurate and slower"
                             % (tolerance.formatted_range(), tolerance.formatted_default()))
+    compact = filter_settings.find("vtkPenumbraSolver", "CompactTolerance")
+    solve.add_argument("--compact", type=_in_range(compact), nargs="?", const=2e-3,
+                       default=None, metavar="T",
+                       help="compact output: merge the display's triangles wherever the "
+                            "radiance stays within T of each surface's mean (CompactTolerance, "
+                            "in %s; T defaults to 2e-3). The display moves by about 0.7 T: "
+                            "a 1,000-polygon room has 3.3 times fewer triangles at the same "
+                            "accuracy, a 0.05%%-accurate direct-light floor becomes about "
+                            "twice less accurate" % compact.formatted_range())
     solve.add_argument("--strict", action="store_true",
                        help="repair nothing: reject non-planar, degenerate and duplicate "
                             "polygons and undefined OBJ materials instead of fixing them")
