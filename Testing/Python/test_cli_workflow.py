@@ -67,6 +67,25 @@ def test_quality_presets_and_tolerance_reach_the_solver(tmp_path):
     assert "SamplingTolerance=0.02 " in _info(out)
 
 
+def test_compact_reaches_the_solver_and_shrinks_the_output(tmp_path):
+    """--compact [T]: the solve records CompactTolerance (2e-3 when given no value),
+    the same scene comes out in fewer triangles, and a tolerance outside [0, 1] is a
+    usage error."""
+    from penumbra.info import read_result
+
+    triangles = {}
+    for name, extra in (("dense", ()), ("compact", ("--compact",))):
+        out = tmp_path / ("%s.vtp" % name)
+        result = run_penumbra("solve", "occluder", "-o", out, "--direct-only", "-q",
+                              "--threads", "2", *extra)
+        assert result.returncode == 0, result.stderr
+        triangles[name] = read_result(str(out)).GetNumberOfPolys()
+        assert ("CompactTolerance=%s" % ("0.002" if extra else "0")) in _info(out)
+    assert triangles["compact"] < 0.5 * triangles["dense"], triangles
+    result = run_penumbra("solve", "occluder", "-o", tmp_path / "bad.vtp", "--compact", "2")
+    assert result.returncode == 2 and "compact" in result.stderr, result.stderr
+
+
 def test_info_reports_the_record_of_the_solve(tmp_path):
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from penumbra.info import energy_balance, read_result
