@@ -167,8 +167,8 @@ def main():
             min(r["seconds"] for r in runs), max(r["seconds"] for r in runs))
         print("| %d | %.1f%s | %.0f | %s | %d | %d | %.1f | %d | %d | %.4f | %.2e | %.2e |" % (
             row["polygons"], row["seconds"], spread, row["peak_mb"], stage, row["output_points"],
-            row["output_triangles"], row["vtp_mb"], row["indirect_samples"], row["shots"], row["unshot"], row["escaped"],
-            row["residual"]), flush=True)
+            row["output_triangles"], row["vtp_mb"], row["indirect_samples"], row["shots"],
+            row["unshot"], row["escaped"], row["residual"]), flush=True)
     if not rows:
         return 1
     polygons = [r["polygons"] for r in rows]

@@ -275,7 +275,10 @@ private:
 
   /// The targets u may move into: any neighbour if it lies on no feature;
   /// along a straight run of features, its two neighbours there; none for
-  /// corners, junctions and the ends of lines.
+  /// corners, junctions and the ends of lines, nor when one of u's
+  /// triangles has no shape (a star with a degenerate triangle, as where the
+  /// two sides of a discontinuity meet, does not cover its region once:
+  /// moving u could fold the mesh unseen).
   void Targets(int u, std::vector<int>& out) const
   {
     const std::vector<int>& f = this->Features[static_cast<std::size_t>(u)];
@@ -283,6 +286,13 @@ private:
     if (this->Pinned[static_cast<std::size_t>(u)])
     {
       return;
+    }
+    for (const int t : this->Stars[static_cast<std::size_t>(u)])
+    {
+      if (!this->HasShape(this->Triangles[static_cast<std::size_t>(t)]))
+      {
+        return;
+      }
     }
     if (f.empty())
     {
@@ -339,19 +349,12 @@ private:
         return 2.0;
       }
     }
-    // u's triangles have a shape (a star with a degenerate triangle, as
-    // where the two sides of a discontinuity meet, does not cover its
-    // region once: moving u could fold the mesh unseen), and so do the new
-    // triangles, which keep their orientation.
+    // The new triangles keep their orientation and a shape.
     std::size_t held = 1;
     for (const int t : this->Stars[static_cast<std::size_t>(u)])
     {
       std::array<int, 3> tri = this->Triangles[static_cast<std::size_t>(t)];
       held += this->Removed[static_cast<std::size_t>(t)].size();
-      if (!this->HasShape(tri))
-      {
-        return 2.0;
-      }
       if (tri[0] == v || tri[1] == v || tri[2] == v)
       {
         continue;

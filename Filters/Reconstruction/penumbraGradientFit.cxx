@@ -139,12 +139,8 @@ void Reconstruction::Internals::FactorFit(int v, int maxColumns, FitWorkspace& w
   {
     const double du = (this->P(q)[0] - pv[0]) / h;
     const double dv = (this->P(q)[1] - pv[1]) / h;
-    const double d = std::sqrt(du * du + dv * dv);
-    if (!(d > 1e-12))
-    {
-      continue; // coincident point: no information on derivatives
-    }
-    const double wgt = 1.0 / d;
+    // GatherNeighbours left out the points too close to v to inform a fit.
+    const double wgt = 1.0 / std::sqrt(du * du + dv * dv);
     const double row[9] = { du, dv, 0.5 * du * du, du * dv, 0.5 * dv * dv, du * du * du / 6.0,
       0.5 * du * du * dv, 0.5 * du * dv * dv, dv * dv * dv / 6.0 };
     for (int j = 0; j < 9; ++j)
@@ -273,10 +269,6 @@ void Reconstruction::Internals::SolveCollinear(
       const double s = (this->P(q)[0] - pv[0]) * tu + (this->P(q)[1] - pv[1]) * tv;
       const double d2 = (this->P(q)[0] - pv[0]) * (this->P(q)[0] - pv[0]) +
         (this->P(q)[1] - pv[1]) * (this->P(q)[1] - pv[1]);
-      if (!(d2 > 0.0))
-      {
-        continue;
-      }
       // Rows weighted by 1/distance, as in the other fits.
       num += s * (this->Value(q, c) - this->Value(v, c)) / d2;
       den += s * s / d2;

@@ -136,6 +136,19 @@ def _boundary_length(out):
     return result
 
 
+def _check_watertight_with_contract(out, samples, outline):
+    """`out` has every surface's `outline` (total length of its edges used by one
+    triangle, as _boundary_length gives it) and no edge used by three triangles,
+    the boundary lines of `samples`, and the point arrays of the contract."""
+    for surface, (length, overused) in _boundary_length(out).items():
+        assert overused == 0
+        assert length == pytest.approx(outline[surface][0], rel=1e-9)
+    assert out.GetNumberOfLines() == samples.GetNumberOfLines()
+    for name in ("Radiance", "Irradiance", "RadianceErrorEstimate"):
+        values = vtk_to_numpy(out.GetPointData().GetArray(name))
+        assert values.shape == (out.GetNumberOfPoints(), 3) and values.min() >= 0
+
+
 def _floor_mean(out):
     """The area-weighted mean of |Radiance| over the floor's (surface 0)
     triangles of `out`, per channel."""
@@ -204,13 +217,7 @@ def test_adaptive_display_is_watertight_and_within_tolerance():
     previous = (np.inf, 0)
     for tolerance in (0.02, 0.005):
         out, _, _ = direct_pipeline("occluder", tolerance=tolerance)
-        for surface, (length, overused) in _boundary_length(out).items():
-            assert overused == 0
-            assert length == pytest.approx(outline[surface][0], rel=1e-9)
-        assert out.GetNumberOfLines() == samples.GetNumberOfLines()
-        for name in ("Radiance", "Irradiance", "RadianceErrorEstimate"):
-            values = vtk_to_numpy(out.GetPointData().GetArray(name))
-            assert values.shape == (out.GetNumberOfPoints(), 3) and values.min() >= 0
+        _check_watertight_with_contract(out, samples, outline)
         deviation = _floor_deviation(out, dense, mean)
         assert deviation <= 1.05 * tolerance
         assert deviation <= previous[0] and out.GetNumberOfPolys() >= previous[1]
@@ -305,13 +312,7 @@ def test_compact_display_is_watertight_within_tolerance_and_as_accurate():
     previous = level2.GetNumberOfPolys()
     for tolerance in (5e-4, 5e-3):
         out, _, _ = direct_pipeline("occluder", level=2, compact=tolerance)
-        for surface, (length, overused) in _boundary_length(out).items():
-            assert overused == 0
-            assert length == pytest.approx(outline[surface][0], rel=1e-9)
-        assert out.GetNumberOfLines() == samples.GetNumberOfLines()
-        for name in ("Radiance", "Irradiance", "RadianceErrorEstimate"):
-            values = vtk_to_numpy(out.GetPointData().GetArray(name))
-            assert values.shape == (out.GetNumberOfPoints(), 3) and values.min() >= 0
+        _check_watertight_with_contract(out, samples, outline)
         assert _vertex_deviation(out, level2, mean) <= tolerance * (1 + 1e-6)
         assert out.GetNumberOfPolys() < previous
         previous = out.GetNumberOfPolys()
