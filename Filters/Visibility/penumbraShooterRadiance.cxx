@@ -167,12 +167,13 @@ void ShooterRadiance::BuildGrid()
   const Vec3& n = this->Normal;
   InPlaneAxes(n, this->AxisU, this->AxisV);
   const int count = static_cast<int>(this->Triangles.size());
-  std::vector<double> boxes(4 * static_cast<std::size_t>(count));
+  this->Boxes.resize(static_cast<std::size_t>(count));
+  this->FirstCells.resize(static_cast<std::size_t>(count));
   double lo[2] = { 1e300, 1e300 };
   double hi[2] = { -1e300, -1e300 };
   for (int t = 0; t < count; ++t)
   {
-    double* b = &boxes[4 * static_cast<std::size_t>(t)];
+    double* b = this->Boxes[static_cast<std::size_t>(t)].data();
     b[0] = b[1] = 1e300;
     b[2] = b[3] = -1e300;
     for (int k = 0; k < 3; ++k)
@@ -222,9 +223,10 @@ void ShooterRadiance::BuildGrid()
     }
     for (int t = 0; t < count; ++t)
     {
-      const double* b = &boxes[4 * static_cast<std::size_t>(t)];
+      const double* b = this->Boxes[static_cast<std::size_t>(t)].data();
       int range[4];
       this->CellRange(b[0], b[1], b[2], b[3], range);
+      this->FirstCells[static_cast<std::size_t>(t)] = { range[0], range[1] };
       for (int j = range[1]; j <= range[3]; ++j)
       {
         for (int i = range[0]; i <= range[2]; ++i)
@@ -380,19 +382,16 @@ void ShooterRadiance::FindTriangles(const Vec3* vertices, int count, std::vector
       for (int k = this->CellStarts[cell]; k < this->CellStarts[cell + 1]; ++k)
       {
         const int t = this->CellItems[static_cast<std::size_t>(k)];
+        // A triangle listed in several cells of the range is reported from
+        // the first of them only.
+        const std::array<int, 2>& first = this->FirstCells[static_cast<std::size_t>(t)];
+        if (i != std::max(range[0], first[0]) || j != std::max(range[1], first[1]))
+        {
+          continue;
+        }
         // Exact rectangle test, so that a large polygon's cell range does not
         // return triangles far from it.
-        double b[4] = { 1e300, 1e300, -1e300, -1e300 };
-        for (int c = 0; c < 3; ++c)
-        {
-          const Vec3& pc = this->Points[this->Triangles[t][c]];
-          const double u = Dot(pc, this->AxisU);
-          const double v = Dot(pc, this->AxisV);
-          b[0] = std::min(b[0], u);
-          b[1] = std::min(b[1], v);
-          b[2] = std::max(b[2], u);
-          b[3] = std::max(b[3], v);
-        }
+        const double* b = this->Boxes[static_cast<std::size_t>(t)].data();
         if (b[0] <= hi[0] + this->Tolerance && b[2] >= lo[0] - this->Tolerance &&
           b[1] <= hi[1] + this->Tolerance && b[3] >= lo[1] - this->Tolerance)
         {
@@ -401,8 +400,6 @@ void ShooterRadiance::FindTriangles(const Vec3* vertices, int count, std::vector
       }
     }
   }
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
 }
 
 } // namespace penumbra

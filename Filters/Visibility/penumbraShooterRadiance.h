@@ -163,10 +163,11 @@ public:
   RGB Integrate(double shooterArea) const;
 
   /**
-   * Set `ids` to the triangles (sorted, without duplicates) whose bounding
-   * rectangle in the mesh's plane overlaps that of the polygon `vertices`
-   * (projected onto the plane): a superset of the triangles the polygon
-   * overlaps. Empty for a constant radiance. Uses the uniform grid.
+   * Set `ids` to the triangles (each once, in an order fixed by the grid)
+   * whose bounding rectangle in the mesh's plane overlaps that of the
+   * polygon `vertices` (projected onto the plane): a superset of the
+   * triangles the polygon overlaps. Empty for a constant radiance. Uses the
+   * uniform grid.
    */
   void FindTriangles(const Vec3* vertices, int count, std::vector<int>& ids) const;
 
@@ -191,6 +192,11 @@ private:
   int GridSize[2] = { 0, 0 };
   std::vector<int> CellStarts;
   std::vector<int> CellItems;
+  /// Per triangle: its rectangle in the plane (u0, v0, u1, v1) and the first
+  /// grid cell (i, j) it is listed in, so that a query reports it once
+  /// without sorting (from the first cell of the query's range it is in).
+  std::vector<std::array<double, 4>> Boxes;
+  std::vector<std::array<int, 2>> FirstCells;
 };
 
 } // namespace penumbra
