@@ -324,10 +324,11 @@ PENUMBRA_TEST(TestAgainstQuadrature)
     parallel, values, 1e-12);
   CheckConfiguration("cut, tilted", { 0.1, 0.9, 0.0 }, Unit(-0.4, 0.1, 1.0), tiltedFacing,
     values, 1e-12);
-  // Small and far (the closed form would lose digits; the Gauss branch is
-  // used below 0.05 radius / distance): 100 and 1000 times the size away,
-  // and just either side of the switch.
-  for (const double scale : { 0.01, 0.001, 0.0001, 0.0475, 0.0525 })
+  // Small and far (the closed form would lose digits; the Gauss rules are
+  // used below 0.15 radius / distance, the 4 x 4 one below 0.02): 100 and
+  // 1000 times the size away, and just either side of each switch (the
+  // triangle's radius over its distance is 0.665 scale).
+  for (const double scale : { 0.01, 0.001, 0.0001, 0.0285, 0.0315, 0.22, 0.23 })
   {
     std::vector<Vec3> small;
     for (const Vec3& p : parallel)
