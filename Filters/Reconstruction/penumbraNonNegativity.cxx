@@ -28,7 +28,141 @@ constexpr double ScaleMargin = 1e-9;
 // and gradients entering the net, are rounding, not negativity to repair.
 constexpr double NetRoundingSlack = 1e-12;
 
+// One constraint on a gradient g: Direction . g >= Bound.
+struct HalfPlane
+{
+  double Direction[2];
+  double Bound;
+};
+
+bool Satisfies(const HalfPlane& h, const double g[2])
+{
+  const double dot = h.Direction[0] * g[0] + h.Direction[1] * g[1];
+  const double scale = std::hypot(h.Direction[0], h.Direction[1]) * std::hypot(g[0], g[1]);
+  return dot >= h.Bound - 1e-12 * (scale + std::abs(h.Bound));
+}
+
+bool SatisfiesAll(const std::vector<HalfPlane>& planes, const double g[2])
+{
+  for (const HalfPlane& h : planes)
+  {
+    if (!Satisfies(h, g))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Replaces g by the nearest point of the intersection of `planes` (which
+// holds zero: every bound is <= 0). The nearest point is g itself, its
+// projection onto one boundary line, or a corner where two lines meet.
+void NearestFeasible(const std::vector<HalfPlane>& planes, double g[2])
+{
+  if (SatisfiesAll(planes, g))
+  {
+    return;
+  }
+  double best[2] = { 0.0, 0.0 };
+  double bestDistance = g[0] * g[0] + g[1] * g[1];
+  auto consider = [&](const double q[2]) {
+    const double d = (q[0] - g[0]) * (q[0] - g[0]) + (q[1] - g[1]) * (q[1] - g[1]);
+    if (d < bestDistance && SatisfiesAll(planes, q))
+    {
+      bestDistance = d;
+      best[0] = q[0];
+      best[1] = q[1];
+    }
+  };
+  const std::size_t n = planes.size();
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const HalfPlane& h = planes[k];
+    const double length2 = h.Direction[0] * h.Direction[0] + h.Direction[1] * h.Direction[1];
+    if (length2 > 0.0)
+    {
+      const double shift = (h.Bound - (h.Direction[0] * g[0] + h.Direction[1] * g[1])) / length2;
+      const double q[2] = { g[0] + shift * h.Direction[0], g[1] + shift * h.Direction[1] };
+      consider(q);
+    }
+    for (std::size_t l = k + 1; l < n; ++l)
+    {
+      const HalfPlane& o = planes[l];
+      const double det = h.Direction[0] * o.Direction[1] - h.Direction[1] * o.Direction[0];
+      if (std::abs(det) > 1e-12 * length2)
+      {
+        const double q[2] = { (h.Bound * o.Direction[1] - o.Bound * h.Direction[1]) / det,
+          (h.Direction[0] * o.Bound - o.Direction[0] * h.Bound) / det };
+        consider(q);
+      }
+    }
+  }
+  g[0] = best[0];
+  g[1] = best[1];
+}
+
 } // namespace
+
+//------------------------------------------------------------------------------
+// Before any scaling: at a point with one sector, the gradient is moved to
+// the nearest one that keeps the control points next to the point (E and A,
+// the latter implied by the two E of its corner) above their triangles'
+// lowest sample. Where the light falls to zero along an edge (a surface's
+// border in the plane of a source, an umbra's boundary) the fitted gradient
+// carries a small along-edge part of either sign; scaling the three corners'
+// gradients for it would flatten the slope into the edge, and with it the
+// reconstruction of the whole ramp. The projection removes only that part.
+// Points with several sectors keep the common scaling, which keeps
+// continuity across order-1 lines.
+void Reconstruction::Internals::ProjectCornerGradients()
+{
+  const int np = this->Mesh.GetNumberOfPoints();
+  const int ns = static_cast<int>(this->SectorPoint.size());
+  const int nc = this->NC;
+  std::vector<int> sectorsOfPoint(np, 0);
+  for (int s = 0; s < ns; ++s)
+  {
+    ++sectorsOfPoint[this->SectorPoint[s]];
+  }
+  std::vector<HalfPlane> planes;
+  for (int s = 0; s < ns; ++s)
+  {
+    const int point = this->SectorPoint[s];
+    if (sectorsOfPoint[point] != 1)
+    {
+      continue;
+    }
+    const double* p = this->P(point);
+    for (int c = 0; c < nc; ++c)
+    {
+      double* g = this->SectorGradient.data() + (static_cast<std::size_t>(s) * nc + c) * 2;
+      const double f = this->Value(point, c);
+      planes.clear();
+      for (int k = this->SectorCornerStart[s]; k < this->SectorCornerStart[s + 1]; ++k)
+      {
+        const int t = this->SectorCorners[k] / 3;
+        const int* tri = this->T(t);
+        const double lowest =
+          std::min(0.0, std::min(this->Value(tri[0], c), std::min(this->Value(tri[1], c),
+                                                              this->Value(tri[2], c))));
+        for (int j = 0; j < 3; ++j)
+        {
+          if (tri[j] != point)
+          {
+            // E = f + g . (p_j - p) / 3 >= lowest.
+            const double* q = this->P(tri[j]);
+            planes.push_back({ { q[0] - p[0], q[1] - p[1] }, 3.0 * (lowest - f) });
+          }
+        }
+      }
+      if (!SatisfiesAll(planes, g))
+      {
+        NearestFeasible(planes, g);
+        ++this->Statistics.ProjectedGradients;
+      }
+    }
+  }
+}
 
 //------------------------------------------------------------------------------
 // Rounding slack per triangle and channel: a net this far below the
@@ -92,8 +226,11 @@ void Reconstruction::Internals::EnforceNonNegativity()
   const int np = this->Mesh.GetNumberOfPoints();
   const int nc = this->NC;
   std::vector<double> alpha(static_cast<std::size_t>(np) * nc, 1.0);
-  std::vector<double> base(static_cast<std::size_t>(this->SectorGradient.size()));
-  base = this->SectorGradient;
+  // The slack is that of the fitted gradients, so that a projection cannot
+  // shrink it.
+  this->ComputeNetSlack(this->SectorGradient);
+  this->ProjectCornerGradients();
+  const std::vector<double> base = this->SectorGradient;
   std::vector<int> scalings(nt, 0);
   std::vector<char> queued(nt, 1);
   std::vector<int> queue(nt);
@@ -122,7 +259,6 @@ void Reconstruction::Internals::EnforceNonNegativity()
       }
     }
   };
-  this->ComputeNetSlack(base);
   Net net, zero;
   double cur[19], low[19];
   int passes = nt > 0 ? 1 : 0;

@@ -134,6 +134,7 @@ struct ReconstructionStatistics
   int ZeroGradients = 0;      ///< sectors with no usable neighbour (gradient 0)
   int CubicModels = 0;        ///< sectors whose error model is a cubic fit
   int ConstrainedSectors = 0; ///< sectors projected for continuity across order-1 edges
+  int ProjectedGradients = 0; ///< (point, channel) gradients moved for non-negative corners
   int ScaledGradients = 0;    ///< (point, channel) gradients reduced for non-negativity
   int ZeroedGradients = 0;    ///< of which reduced to zero
   int RepairPasses = 0;       ///< passes of the non-negativity repair

@@ -114,6 +114,7 @@ struct Reconstruction::Internals
 
   // penumbraNonNegativity.cxx
   void ComputeNetSlack(const std::vector<double>& base);
+  void ProjectCornerGradients();
   void EnforceNonNegativity();
 
   // penumbraPointLocation.cxx
