@@ -219,6 +219,24 @@ void PointOf(const SampleMesh& m, int t, const double b[3], double& u, double& v
   }
 }
 
+// The reconstruction's first channel at 2000 random points of its triangles:
+// visit(u, v, value), (u, v) located on `geometry` (the mesh the triangles'
+// points were made on, before any rotation).
+template <class Visit>
+void AtRandomPoints(const Reconstruction& r, const SampleMesh& geometry, unsigned seed, Visit visit)
+{
+  std::mt19937_64 rng(seed);
+  for (int i = 0; i < 2000; ++i)
+  {
+    int t;
+    double b[3], u, v, value;
+    RandomTrianglePoint(rng, geometry.GetNumberOfTriangles(), t, b);
+    PointOf(geometry, t, b, u, v);
+    r.Evaluate(t, b, &value);
+    visit(u, v, value);
+  }
+}
+
 // Edges shared by two triangles: (t0, k0, t1, k1), edge k opposite corner k.
 struct SharedEdge
 {
@@ -895,18 +913,12 @@ PENUMBRA_TEST(TestRotatedUmbraBoundary)
     Reconstruction r;
     r.Build(mesh, ReconstructionOptions());
     zeroed += r.GetStatistics().ZeroedGradients;
-    std::mt19937_64 rng(seed);
-    for (int i = 0; i < 2000; ++i)
-    {
-      int t;
-      double b[3], u, v, exact, value;
-      RandomTrianglePoint(rng, mesh.GetNumberOfTriangles(), t, b);
-      PointOf(flat, t, b, u, v);
+    AtRandomPoints(r, flat, static_cast<unsigned>(seed), [&](double u, double v, double value) {
+      double exact;
       (u < line ? lit : unlit)(u, v, &exact);
-      r.Evaluate(t, b, &value);
       worst = std::max(worst, std::abs(value - std::max(exact, 0.0)));
       PENUMBRA_EXPECT(value >= 0.0);
-    }
+    });
   }
   std::printf("20 rotated meshes: largest error %.3g (field up to %.3g), %d gradients zeroed\n",
     worst, slope * line, zeroed);
@@ -948,21 +960,15 @@ PENUMBRA_TEST(TestRampToZeroAtBorder)
       Reconstruction r;
       r.Build(mesh, o);
       projected += repair == 0 ? r.GetStatistics().ProjectedGradients : 0;
-      std::mt19937_64 rng(seed);
-      for (int i = 0; i < 2000; ++i)
-      {
-        int t;
-        double b[3], u, v, exact, value;
-        RandomTrianglePoint(rng, mesh.GetNumberOfTriangles(), t, b);
-        PointOf(mesh, t, b, u, v);
+      AtRandomPoints(r, mesh, static_cast<unsigned>(seed), [&](double u, double v, double value) {
+        double exact;
         ramp(u, v, &exact);
-        r.Evaluate(t, b, &value);
         worst[repair] = std::max(worst[repair], std::abs(value - exact));
         if (repair == 0)
         {
           lowest = std::min(lowest, value);
         }
-      }
+      });
     }
   }
   std::printf("20 meshes: largest error %.3g with the repair, %.3g without; lowest value %.3g; "
