@@ -7,11 +7,11 @@
 
 Radiance comes from PyPI's pyradiance (Benchmarks/reference/setup_radiance.sh,
 run here if its venv is missing). A Penumbra scene becomes Radiance
-primitives: each polygon a `polygon` (same vertex order: Radiance's front is
-Penumbra's), an emitter's material `light` with its Emission as radiance, the
-others `plastic` with their Reflectance (no specularity). `rtrace -I` then
-gives the irradiance at points (W m^-2 per channel for radiance in
-W sr^-1 m^-2).
+primitives (Benchmarks/radiance_scene.py: each polygon a `polygon`, same
+vertex order so that Radiance's front is Penumbra's; an emitter's material
+`light` with its Emission as radiance, the others `plastic` with their
+Reflectance, no specularity). `rtrace -I` then gives the irradiance at
+points (W m^-2 per channel for radiance in W sr^-1 m^-2).
 
 Case 5.3 (penumbra.generators.black_room: a black room, one ceiling source)
 checks the conversion against Lambert's exact formula: a wrong front side
@@ -25,55 +25,13 @@ chart (--out/radiance_cie53.png).
 import argparse
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(HERE)
-
-
-def radiance_bin():
-    """The folder of the Radiance binaries (the venv is made if missing)."""
-    done = subprocess.run([os.path.join(HERE, "reference", "setup_radiance.sh")],
-                          stdout=subprocess.PIPE, universal_newlines=True, check=True)
-    return done.stdout.strip().splitlines()[-1]
-
-
-def write_rad(scene, path):
-    """The scene vtkPolyData as Radiance primitives (see the module doc)."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-
-    reflectance = vtk_to_numpy(scene.GetCellData().GetArray("Reflectance"))
-    emission = vtk_to_numpy(scene.GetCellData().GetArray("Emission"))
-    with open(path, "w") as out:
-        for i in range(scene.GetNumberOfCells()):
-            cell = scene.GetCell(i)
-            points = [cell.GetPoints().GetPoint(k) for k in range(cell.GetNumberOfPoints())]
-            if emission[i].max() > 0.0:
-                out.write("void light m%d\n0\n0\n3 %.17g %.17g %.17g\n\n" % ((i,) + tuple(emission[i])))
-            else:
-                out.write("void plastic m%d\n0\n0\n5 %.17g %.17g %.17g 0 0\n\n"
-                          % ((i,) + tuple(reflectance[i])))
-            out.write("m%d polygon p%d\n0\n0\n%d %s\n\n"
-                      % (i, i, 3 * len(points), " ".join("%.17g %.17g %.17g" % p for p in points)))
-
-
-def rtrace_irradiance(binaries, octree, points, options):
-    """rtrace -I at points (n x 6: position, normal); returns (n x 3, seconds)."""
-    env = dict(os.environ, RAYPATH=".:" + os.path.join(os.path.dirname(binaries), "lib"))
-    text = "".join("%.17g %.17g %.17g %.17g %.17g %.17g\n" % tuple(p) for p in points)
-    start = time.perf_counter()
-    done = subprocess.run([os.path.join(binaries, "rtrace"), "-h", "-I", "-n", "2"] + options
-                          + [octree], input=text, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                          universal_newlines=True, env=env, check=True)
-    seconds = time.perf_counter() - start
-    values = np.array([[float(v) for v in line.split()] for line in done.stdout.splitlines()
-                       if line.strip()])
-    return values, seconds
+from radiance_scene import REPO, make_octree, radiance_bin, rtrace_irradiance
 
 
 def main(argv=None):
@@ -90,12 +48,7 @@ def main(argv=None):
 
     binaries = radiance_bin()
     scene = black_room(luminance=LUMINANCE)
-    work = tempfile.mkdtemp(prefix="penumbra-radiance-")
-    write_rad(scene, os.path.join(work, "scene.rad"))
-    octree = os.path.join(work, "scene.oct")
-    with open(octree, "wb") as out:
-        subprocess.run([os.path.join(binaries, "oconv"), os.path.join(work, "scene.rad")],
-                       stdout=out, check=True)
+    octree = make_octree(binaries, scene, tempfile.mkdtemp(prefix="penumbra-radiance-"))
     grid = np.arange(0.125, 4.0, 0.25)
     sets = {
         "floor": np.array([(x, 0.0, z, 0, 1, 0) for x in grid for z in grid], dtype=float),

@@ -75,6 +75,22 @@ Method families (one curve each on the charts):
   not importing Mitsuba (as the other methods' times do not cover
   importing VTK).
 
+- Radiance 6 (`rtrace -I`, from PyPI's pyradiance: the venv of
+  Benchmarks/reference/setup_radiance.sh, made on first use; --no-radiance
+  leaves it out), direct-light scenes only: the scene converted to Radiance
+  primitives (Benchmarks/radiance_scene.py; its front sides and units are
+  checked against Lambert's formula by Benchmarks/radiance_peer.py), then
+  the irradiance at the very points of the error measure with the floor's
+  normal, `-ab 0` (no interreflection: these floors get direct light
+  only), every source tested (`-dt 0 -dc 1`), over a ladder of source
+  subdivisions `-ds` 0.5 to 0.005 and with jitter `-dj 0.7` at two of them,
+  in --threads processes (`-n`); radiance = reflectance * irradiance / pi.
+  Its time covers writing the primitives, `oconv` and `rtrace`. Without
+  jitter its error stops falling below `-ds` 0.05 (the light's partitions
+  stop shrinking); jitter turns the steps of its penumbrae into noise. The
+  Cornell box is left out: with `-ab` above 2 and the ambient cache off a
+  single run takes minutes on 2 cores.
+
 After the runs it prints the speed-accuracy goals checked against the measured
 rows (claims): on each direct-light scene, at each exact + cubic run's
 time, the RMS of the standard and path-tracer curves (their lower
@@ -113,6 +129,7 @@ CORNELL_REFERENCE = os.path.join(HERE, "reference", "cornell_reference.npz")
 CUBIC = "discontinuity (exact + cubic)"
 LINEAR = "discontinuity (exact + linear)"
 RAY_CAST = "discontinuity (ray cast + cubic)"
+RADIANCE = "Radiance (rtrace -I)"
 # Discontinuity meshing's sampling tolerance (vtkPenumbraRadianceEvaluator's
 # SamplingTolerance, relative to each surface's mean radiance; default 0.002):
 # the knob that trades its accuracy for time.
@@ -177,8 +194,14 @@ METHODS = tuple(
     ("standard", "standard disc h=0.025 s=8",
      {"element_size": 0.025, "shooter_samples": 8, "form_factor": "disc"}),
 ) + tuple(("path tracing", "Mitsuba %d spp" % spp, {"spp": spp})
-          for spp in (1, 4, 16, 64, 256, 1024, 4096, 16384))
-FAMILIES = (CUBIC, LINEAR, RAY_CAST, "standard", "path tracing")
+          for spp in (1, 4, 16, 64, 256, 1024, 4096, 16384)
+) + tuple((RADIANCE, "Radiance -ds %g%s" % (ds, " -dj 0.7" if jitter else ""),
+           {"rtrace": ["-ab", "0", "-dt", "0", "-dc", "1", "-ds", "%g" % ds]
+            + (["-dj", "0.7"] if jitter else [])})
+          for ds, jitter in ((0.5, False), (0.2, False), (0.1, False), (0.05, False),
+                             (0.02, False), (0.01, False), (0.005, False), (0.05, True),
+                             (0.01, True)))
+FAMILIES = (CUBIC, LINEAR, RAY_CAST, "standard", "path tracing", RADIANCE)
 CORNELL_ONLY = [label for _, label, settings in METHODS
                 if {"unshot", "coarse"} & set(settings)]
 ON_REQUEST = ["exact + cubic tol=0.05 d=0", "exact + cubic tol=0.02 d=0", "exact + cubic d=0"]
@@ -433,6 +456,33 @@ def next_event(scene_name, points, spp, threads, seed=10 ** 6):
     return radiance, time.perf_counter() - start, spp * count
 
 
+def radiance_direct(scene_name, points, options, threads):
+    """Radiance's floor radiance at `points` (first channel): the scene
+    converted to Radiance primitives and compiled (Benchmarks/radiance_scene.py),
+    then `rtrace -I` with `options` at the points with the floor's normal, in
+    `threads` processes; radiance = floor reflectance * irradiance / pi.
+    Returns (radiance, seconds: conversion, octree and tracing, points)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    import penumbra
+    from radiance_scene import installed_bin, make_octree, rtrace_irradiance
+
+    binaries = installed_bin()
+    scene = penumbra.load_scene(scene_name)
+    reflectance = vtk_to_numpy(scene.GetCellData().GetArray("Reflectance"))[FLOOR, 0]
+    cell = scene.GetCell(FLOOR).GetPoints()
+    a, b, c = (np.array(cell.GetPoint(k)) for k in range(3))
+    normal = np.cross(b - a, c - a)
+    normal /= np.linalg.norm(normal)
+    rays = np.hstack([points, np.tile(normal, (len(points), 1))])
+    with tempfile.TemporaryDirectory() as folder:
+        start = time.perf_counter()
+        octree = make_octree(binaries, scene, folder)
+        irradiance, _ = rtrace_irradiance(binaries, octree, rays, options, processes=threads)
+        seconds = time.perf_counter() - start
+    return reflectance * irradiance[:, 0] / np.pi, seconds, len(points)
+
+
 def run_one(args):
     """Child process: one (scene, method) run; prints one JSON line."""
     family, label, settings = METHODS[args.one]
@@ -441,6 +491,12 @@ def run_one(args):
         images, seconds, samples = path_trace(settings["spp"], args.threads)
         memory = peak_memory_mb()
         relative = reference_errors(images)
+    elif family == RADIANCE:
+        reference = np.load(args.reference)
+        radiance, seconds, samples = radiance_direct(args.scene, reference["points"],
+                                                     settings["rtrace"], args.threads)
+        memory = peak_memory_mb()
+        relative = np.abs(radiance - reference["exact"]) / reference["exact"].mean()
     elif family == "path tracing":
         reference = np.load(args.reference)
         radiance, seconds, samples = next_event(args.scene, reference["points"],
@@ -464,7 +520,8 @@ def run_one(args):
     return 0
 
 
-MARKERS = {CUBIC: "o", LINEAR: "D", RAY_CAST: "v", "standard": "s", "path tracing": "^"}
+MARKERS = {CUBIC: "o", LINEAR: "D", RAY_CAST: "v", "standard": "s", "path tracing": "^",
+           RADIANCE: "P"}
 COLORS = {family: "C%d" % k for k, family in enumerate(FAMILIES)}  # the same on every chart
 
 
@@ -483,7 +540,7 @@ def front(rows, scene, family):
 
 def short_label(label):
     for prefix in ("Mitsuba ", "standard ", "exact + cubic", "exact + linear",
-                   "ray cast + cubic"):
+                   "ray cast + cubic", "Radiance "):
         if label.startswith(prefix):
             return label[len(prefix):].strip() or "default"
     return label
@@ -572,13 +629,13 @@ def claims(rows):
     against the path tracer). Cornell box: the time each family takes to
     reach 1% RMS (goal: discontinuity meshing 10 times faster than either)."""
     lines = []
-    others = ("standard", "path tracing")
+    others = ("standard", "path tracing", RADIANCE)
     scenes = [s for s in SCENES if any(r["scene"] == s for r in rows)]
     direct = [s for s in scenes if s != "cornell"]
     if direct:
         lines += ["| scene | exact + cubic run | time (s) | RMS | standard RMS then | ratio "
-                  "| path tracer RMS then | ratio |",
-                  "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+                  "| path tracer RMS then | ratio | Radiance RMS then | ratio |",
+                  "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
         summary = []
         for scene in direct:
             runs = front(rows, scene, CUBIC)[0]
@@ -598,11 +655,12 @@ def claims(rows):
                     scene, label, seconds, 100 * rms, " | ".join(cells)))
             summary.append((scene, worst))
         lines += ["", "| scene | smallest ratio to standard (goal >= 10) "
-                  "| smallest ratio to path tracer (goal >= 100) | below both everywhere |",
-                  "| --- | --- | --- | --- |"]
+                  "| smallest ratio to path tracer (goal >= 100) "
+                  "| smallest ratio to Radiance (goal >= 10) | below all everywhere |",
+                  "| --- | --- | --- | --- | --- |"]
         for scene, worst in summary:
             values = [worst[f] for f in others]
-            lines.append("| %s | %s | %s | %s |" % (
+            lines.append("| %s | %s | %s | %s | %s |" % (
                 scene, *("%.3g" % v if v is not None else "no overlap" for v in values),
                 "no overlap" if all(v is None for v in values)
                 else "yes" if all(v is None or v > 1 for v in values) else "no"))
@@ -678,6 +736,9 @@ def main():
     parser.add_argument("--mitsuba-python", default=MITSUBA_PYTHON,
                         help="python of the Mitsuba 3 venv (Benchmarks/reference/setup_mitsuba.sh; "
                              "default %(default)s); the path tracer is left out without it")
+    parser.add_argument("--no-radiance", action="store_true",
+                        help="leave Radiance out (otherwise its venv is made on first use: "
+                             "Benchmarks/reference/setup_radiance.sh)")
     parser.add_argument("--replot", metavar="CSV",
                         help="no runs: redo the charts, tables and claims from a CSV "
                              "this script wrote")
@@ -699,6 +760,7 @@ def main():
         return 0
 
     import penumbra
+    from radiance_scene import radiance_bin
 
     wanted = ([label for _, label, _ in METHODS] if args.methods == "all"
               else args.methods.split(",") if args.methods else None)
@@ -718,6 +780,12 @@ def main():
                 elif label not in wanted:
                     continue
                 python = sys.executable
+                if family == RADIANCE and scene == "cornell":
+                    continue  # direct-light scenes only (see the module docstring)
+                if family == RADIANCE and not args.no_radiance:
+                    radiance_bin()  # makes the Radiance venv the first time
+                elif family == RADIANCE:
+                    continue
                 if family == "path tracing":
                     if not os.access(args.mitsuba_python, os.X_OK):
                         print("%-9s %-40s left out: no Mitsuba venv at %s"
