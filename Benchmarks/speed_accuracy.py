@@ -558,17 +558,15 @@ def radiance_direct(scene_name, points, settings, threads):
 
     scene = penumbra.load_scene(scene_name)
     reflectance = vtk_to_numpy(scene.GetCellData().GetArray("Reflectance"))[FLOOR, 0]
-    rays = np.hstack([points, np.tile(front_normal(scene, FLOOR), (len(points), 1))])
+    sys.path.insert(0, os.path.join(HERE, "reference"))
+    from mitsuba_cornell import polygon_normal
+
+    corners = scene.GetCell(FLOOR).GetPoints()
+    normal = polygon_normal([np.array(corners.GetPoint(k))
+                             for k in range(corners.GetNumberOfPoints())])
+    rays = np.hstack([points, np.tile(normal, (len(points), 1))])
     irradiance, seconds, samples = radiance_run(scene, rays, settings, threads)
     return reflectance * irradiance[:, 0] / np.pi, seconds, samples
-
-
-def front_normal(scene, cell_id):
-    """A planar polygon's front normal (right-hand rule over its first corners)."""
-    corners = scene.GetCell(cell_id).GetPoints()
-    a, b, c = (np.array(corners.GetPoint(k)) for k in range(3))
-    normal = np.cross(b - a, c - a)
-    return normal / np.linalg.norm(normal)
 
 
 def cornell_points(reference, k=2):

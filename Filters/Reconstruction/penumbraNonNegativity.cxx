@@ -54,15 +54,11 @@ bool SatisfiesAll(const std::vector<HalfPlane>& planes, const double g[2])
   return true;
 }
 
-// Replaces g by the nearest point of the intersection of `planes` (which
-// holds zero: every bound is <= 0). The nearest point is g itself, its
-// projection onto one boundary line, or a corner where two lines meet.
+// Replaces g, which violates some of `planes`, by the nearest point of their
+// intersection (which holds zero: every bound is <= 0): its projection onto
+// one boundary line, or a corner where two lines meet, or zero.
 void NearestFeasible(const std::vector<HalfPlane>& planes, double g[2])
 {
-  if (SatisfiesAll(planes, g))
-  {
-    return;
-  }
   double best[2] = { 0.0, 0.0 };
   double bestDistance = g[0] * g[0] + g[1] * g[1];
   auto consider = [&](const double q[2]) {
