@@ -259,7 +259,7 @@ int vtkPenumbraProgressiveShooter::Execute(
     shooter->SetParallelFor(penumbra::SMPParallelFor());
     sampling.Assign(scene, bySurface,
       this->MaximumIndirectSamples > 0 ? static_cast<std::size_t>(this->MaximumIndirectSamples) : 0,
-      *shooter);
+      *prepared->GetRayCaster(), penumbra::SMPParallelFor(), *shooter);
   }
   catch (const penumbra::InputError& e)
   {
@@ -286,6 +286,8 @@ int vtkPenumbraProgressiveShooter::Execute(
   sampling.Prolong(*shooter);
   WriteTotals(radiance, global, sampling, *shooter, output);
   AddShootingFields(output->GetFieldData(), summary, *shooter, sampling.GetSpacing());
+  penumbra::AddField(output->GetFieldData(), "IndirectSeparatePoints",
+    static_cast<double>(sampling.GetNumberOfSeparatePoints()));
   this->UpdateProgress(1.0);
   return 1;
 }

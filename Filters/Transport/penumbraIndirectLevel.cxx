@@ -2,6 +2,7 @@
 #include "penumbraIndirectLevel.h"
 
 #include "penumbraPlaneFrame.h"
+#include "penumbraRayCaster.h"
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -74,6 +75,7 @@ IndirectLevel::IndirectLevel(const Surface& surface, double spacing, const Surfa
   }
   Vec3 normal;
   const double longest = EarTriangles(surface, normal, this->Ears);
+  this->Normal = normal;
   InPlaneAxes(normal, this->AxisU, this->AxisV);
   const std::vector<Vec3>& v = surface.Vertices;
   for (const Vec3& p : v)
@@ -277,6 +279,79 @@ IndirectLevel::Location IndirectLevel::Locate(const Vec3& p) const
   return where;
 }
 
+std::size_t IndirectLevel::SeparateOccluded(
+  const SurfaceSamples& fine, int surfaceId, const RayCaster& caster, const ParallelFor& loop)
+{
+  if (fine.Points.size() != this->FineLocations.size())
+  {
+    throw InputError("IndirectLevel::SeparateOccluded: the samples are not those of this level");
+  }
+  // Test points are pulled a little toward the centre of the fine point's
+  // lattice triangle, off the outline, where rays along a neighbouring
+  // surface would graze it.
+  constexpr double Inward = 1e-3;
+  const double height = 0.5 * this->Spacing;
+  const Vec3 up = this->Normal * height;
+  const std::size_t count = this->FineLocations.size();
+  std::vector<unsigned char> keep(count * 3, 1), alone(count, 0);
+  RunParallel(loop, count, [&](std::size_t begin, std::size_t end) {
+    std::vector<OcclusionRay> rays;
+    std::vector<unsigned char> hit;
+    for (std::size_t k = begin; k < end; ++k)
+    {
+      const Location& where = this->FineLocations[k];
+      const Vec3 centre = (this->Points[where.Corners[0]] + this->Points[where.Corners[1]] +
+                            this->Points[where.Corners[2]]) *
+        (1.0 / 3.0);
+      const Vec3 p = fine.Points[k] + (centre - fine.Points[k]) * Inward;
+      // Rays: 0 the point's own cover; per corner c: its cover, then the
+      // segment between the two lifted points.
+      rays.assign(7, OcclusionRay());
+      rays[0] = { p, p + up };
+      for (int c = 0; c < 3; ++c)
+      {
+        const Vec3 corner =
+          this->Points[where.Corners[c]] + (centre - this->Points[where.Corners[c]]) * Inward;
+        rays[1 + 2 * c] = { corner, corner + up };
+        rays[2 + 2 * c] = { p + up, corner + up };
+      }
+      hit.assign(rays.size(), 0);
+      caster.TraceOcclusion(rays.data(), rays.size(), hit.data(), surfaceId);
+      double sum = 0.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        const bool usable = where.Weights[c] > 0.0 && hit[1 + 2 * c] == hit[0] && !hit[2 + 2 * c];
+        keep[3 * k + c] = usable ? 1 : 0;
+        sum += usable ? where.Weights[c] : 0.0;
+      }
+      alone[k] = sum > 0.0 ? 0 : 1;
+    }
+  });
+  this->Separate.clear();
+  this->SeparateIndex.assign(count, -1);
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    Location& where = this->FineLocations[k];
+    if (alone[k])
+    {
+      this->SeparateIndex[k] = static_cast<int>(this->Separate.size());
+      this->Separate.push_back(static_cast<int>(k));
+      continue;
+    }
+    double sum = 0.0;
+    for (int c = 0; c < 3; ++c)
+    {
+      where.Weights[c] = keep[3 * k + c] ? where.Weights[c] : 0.0;
+      sum += where.Weights[c];
+    }
+    for (double& weight : where.Weights)
+    {
+      weight /= sum;
+    }
+  }
+  return this->Separate.size();
+}
+
 SurfaceSamples IndirectLevel::Restrict(const SurfaceSamples& fine) const
 {
   SurfaceSamples coarse;
@@ -395,19 +470,32 @@ SurfaceSamples IndirectLevel::Restrict(const SurfaceSamples& fine) const
       coarse.Unshot[k][c] *= unshotScale;
     }
   }
+  for (const int k : this->Separate)
+  {
+    coarse.Points.push_back(fine.Points[k]);
+    coarse.Total.push_back(fine.Total[k]);
+    coarse.Unshot.push_back(fine.Unshot[k]);
+  }
   return coarse;
 }
 
 void IndirectLevel::Prolong(
   const SurfaceSamples& before, const SurfaceSamples& after, SurfaceSamples& fine) const
 {
-  if (before.Total.size() != this->Points.size() || after.Total.size() != this->Points.size() ||
+  const std::size_t coarseCount = this->Points.size() + this->Separate.size();
+  if (before.Total.size() != coarseCount || after.Total.size() != coarseCount ||
     fine.Total.size() != this->FineLocations.size())
   {
     throw InputError("IndirectLevel::Prolong: the samples are not those of this level");
   }
   for (std::size_t k = 0; k < this->FineLocations.size(); ++k)
   {
+    if (!this->SeparateIndex.empty() && this->SeparateIndex[k] >= 0)
+    {
+      const std::size_t own = this->Points.size() + this->SeparateIndex[k];
+      fine.Total[k] += after.Total[own] + before.Total[own] * -1.0;
+      continue;
+    }
     const Location& where = this->FineLocations[k];
     for (int c = 0; c < 3; ++c)
     {

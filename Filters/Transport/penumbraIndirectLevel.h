@@ -31,6 +31,17 @@
  *   points and added to their totals, so the direct light keeps its fine
  *   shadows and the interreflections are as smooth as the lattice.
  *
+ * - Occluders (SeparateOccluded). Interpolating across an occluder would
+ *   leak light: into the thin gap behind a cabinet standing near a wall,
+ *   onto the ceiling behind a fixture hung just below it, round a table
+ *   leg. A lattice corner lends its light to a fine point only if the two
+ *   see each other at a height above the surface (half the spacing) and are
+ *   both covered or both uncovered within that height; the weights of the
+ *   corners left are renormalised, and a fine point left with none (a
+ *   pocket narrower than the spacing) is evaluated on its own: it joins the
+ *   coarse samples as a point outside every triangle, which receives the
+ *   shots but carries no power.
+ *
  * What is lost: the indirect light is resolved to the spacing (contact
  * shadows of secondary sources narrower than it are blurred), and the
  * first bounce leaves from the restricted, not the exact, reflected direct
@@ -40,6 +51,7 @@
 #define penumbraIndirectLevel_h
 
 #include "penumbraTransportModule.h" // for export macro
+#include "penumbraParallel.h"
 #include "penumbraProgressiveShooter.h"
 #include "penumbraScene.h"
 
@@ -49,6 +61,8 @@
 
 namespace penumbra
 {
+
+class RayCaster;
 
 /// The coarse level of one surface and the transfer to and from its fine samples.
 class PENUMBRATRANSPORT_EXPORT IndirectLevel
@@ -64,8 +78,20 @@ public:
   /// The lattice resolution n of each ear (see the file comment).
   int GetResolution() const { return this->Resolution; }
 
-  /// Number of points of the coarse mesh.
+  /// Number of points of the coarse mesh (the lattice's, without the points evaluated on their own).
   std::size_t GetNumberOfPoints() const { return this->Points.size(); }
+
+  /**
+   * Keep interpolation from crossing occluders (see the file comment):
+   * `fine` are the samples given to the constructor, `surfaceId` their
+   * surface in `caster`'s scene. Returns the number of fine points that
+   * are evaluated on their own from now on. Call before Restrict.
+   */
+  std::size_t SeparateOccluded(const SurfaceSamples& fine, int surfaceId, const RayCaster& caster,
+    const ParallelFor& loop);
+
+  /// Number of fine points evaluated on their own (SeparateOccluded).
+  std::size_t GetNumberOfSeparatePoints() const { return this->Separate.size(); }
 
   /// Number of coarse points `surface` would get at `spacing`, without building them.
   static std::size_t CountPoints(const Surface& surface, double spacing);
@@ -73,7 +99,8 @@ public:
   /**
    * The coarse samples: the lattice's points and triangles, with Total and
    * Unshot the restrictions of `fine`'s (the samples given to the
-   * constructor, with their current values).
+   * constructor, with their current values), then the fine points evaluated
+   * on their own with their fine values.
    */
   SurfaceSamples Restrict(const SurfaceSamples& fine) const;
 
@@ -94,6 +121,7 @@ private:
   Location Locate(const Vec3& p) const;
 
   double Spacing = 0.0;
+  Vec3 Normal;                                ///< the surface's front normal
   double QuadratureSize = 0.0;               ///< restriction: largest quadrature triangle
   int Resolution = 1;
   Vec3 AxisU, AxisV;                          ///< the plane's frame
@@ -104,6 +132,9 @@ private:
   std::vector<std::array<int, 3>> Triangles;
   std::vector<double> Mass;                   ///< int phi_k dA per coarse point
   std::vector<Location> FineLocations;
+  /// Fine points evaluated on their own; the k-th is coarse sample Points.size() + k.
+  std::vector<int> Separate;
+  std::vector<int> SeparateIndex; ///< per fine point: its place in Separate, or -1
 };
 
 /**

@@ -9,8 +9,9 @@ namespace penumbra
 
 void IndirectSampling::Assign(const Scene& scene,
   std::unordered_map<int, SurfaceSamples>& samples, std::size_t maximumIndirectSamples,
-  ProgressiveShooter& shooter)
+  const RayCaster& caster, const ParallelFor& loop, ProgressiveShooter& shooter)
 {
+  this->SeparatePoints = 0;
   std::vector<std::size_t> finePoints(scene.Surfaces.size(), 0);
   for (const auto& entry : samples)
   {
@@ -26,6 +27,12 @@ void IndirectSampling::Assign(const Scene& scene,
     {
       auto level =
         std::make_shared<IndirectLevel>(scene.Surfaces[entry.first], this->Spacing, entry.second);
+      // A polygon within one lattice cell receives one value (Uniform
+      // below): it has nothing to separate.
+      if (level->GetResolution() > 1)
+      {
+        this->SeparatePoints += level->SeparateOccluded(entry.second, entry.first, caster, loop);
+      }
       this->Coarse[entry.first] = { level, level->Restrict(entry.second) };
       // A polygon within one lattice cell receives one value, as the
       // lattice resolves nothing finer.
