@@ -163,8 +163,11 @@ public:
    * level instead: a uniform lattice mesh of every surface, its spacing
    * chosen so that the level has about this many points, the initial
    * values restricted from the samples (each surface's power kept) and the
-   * indirect light interpolated back onto every sample
-   * (penumbra::IndirectLevel). The direct light keeps every sample.
+   * indirect light interpolated back onto every sample, never across an
+   * occluder (samples in pockets narrower than the spacing, such as behind
+   * a fixture hung just below a ceiling, are shot on their own; field
+   * IndirectSeparatePoints) (penumbra::IndirectLevel). The direct light
+   * keeps every sample.
    * Default 100000, range [0, 2000000000]; 0 = always every sample.
    */
   vtkSetClampMacro(MaximumIndirectSamples, vtkIdType, 0, 2000000000);

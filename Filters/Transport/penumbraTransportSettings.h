@@ -20,7 +20,8 @@ struct TransportSettings
   ProgressiveShooterSettings Shooting;
   /// Largest number of points the interreflections are shot onto: above it,
   /// shots run on a coarse lattice over each surface (IndirectLevel) whose
-  /// indirect light is interpolated back onto every sample; the direct light
+  /// indirect light is interpolated back onto every sample, never across an
+  /// occluder (IndirectLevel::SeparateOccluded); the direct light
   /// keeps every sample. [100000], >= 0; 0 = always every sample.
   long long MaximumIndirectSamples = 100000;
   /// Secondary shooters as the paper means them: a surface (not an
