@@ -7,6 +7,7 @@
 
 #include "penumbraConstraintMerging.h"
 #include "penumbraContacts.h"
+#include "penumbraCovers.h"
 #include "penumbraJumpThreshold.h"
 #include "penumbraMath.h"
 #include "penumbraMeshingTolerances.h"
@@ -43,6 +44,7 @@ DiscontinuityMeshStatistics& DiscontinuityMeshStatistics::operator+=(
   this->SegmentsGenerated += o.SegmentsGenerated;
   this->SegmentsKept += o.SegmentsKept;
   this->ContactSegments += o.ContactSegments;
+  this->CoverSegments += o.CoverSegments;
   this->Constraints += o.Constraints;
   this->ConstraintFailures += o.ConstraintFailures;
   this->Points += o.Points;
@@ -237,6 +239,8 @@ std::vector<detail::Segment2> DiscontinuityMesher::Internals::Boundaries(int rec
   if (settings.Contacts)
   {
     detail::AddContacts(
+      this->Topology, this->Occluders, receiverId, settings, frame, segments, stats);
+    detail::AddCovers(
       this->Topology, this->Occluders, receiverId, settings, frame, segments, stats);
   }
   std::vector<int> shooters = this->Select(settings);

@@ -108,7 +108,8 @@ struct DiscontinuityMeshSettings
   /// there; see the design notes), and the shooter's own plane. [true]
   bool PlaneEvents = true;
   /// Generate contact lines and remove the footprints of solids standing on
-  /// the receiver. [true]
+  /// the receiver, and lines under covers (polygons close in front of it:
+  /// penumbraCovers.h). [true]
   bool Contacts = true;
   /// Drop shadow boundaries whose estimated radiance jump, relative to the
   /// receiver's largest unoccluded direct radiance, is below this. [0] = keep
@@ -134,6 +135,7 @@ struct DiscontinuityMeshStatistics
   std::size_t SegmentsGenerated = 0;  ///< shadow-boundary pieces found on receivers (traced wedges)
   std::size_t SegmentsKept = 0;       ///< of those, kept by the jump threshold
   std::size_t ContactSegments = 0;    ///< contact pieces (order 0) on receivers
+  std::size_t CoverSegments = 0;      ///< cover pieces (order 2): outlines and loops under covers
   std::size_t Constraints = 0;        ///< constraints inserted (after merging collinear pieces)
   std::size_t ConstraintFailures = 0; ///< constraint insertions that threw (should be 0)
   std::size_t Points = 0;             ///< output points (with order-0 copies)

@@ -193,6 +193,7 @@ void WriteMeshes(const std::vector<penumbra::ReceiverMesh>& meshes,
   AddCount(fieldData, "SegmentsGenerated", static_cast<double>(total.SegmentsGenerated));
   AddCount(fieldData, "SegmentsKept", static_cast<double>(total.SegmentsKept));
   AddCount(fieldData, "ContactSegments", static_cast<double>(total.ContactSegments));
+  AddCount(fieldData, "CoverSegments", static_cast<double>(total.CoverSegments));
   AddCount(fieldData, "Constraints", static_cast<double>(total.Constraints));
   AddCount(fieldData, "ConstraintFailures", static_cast<double>(total.ConstraintFailures));
   AddCount(fieldData, "Triangles", static_cast<double>(total.Triangles));

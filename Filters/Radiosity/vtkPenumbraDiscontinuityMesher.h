@@ -23,7 +23,7 @@
  * - point data `SurfaceId`. Points along order-0 lines are duplicated, one
  *   copy per side, so that values may jump there;
  * - field data with the counts of the run: `SegmentsGenerated`,
- *   `SegmentsKept`, `ContactSegments`, `Constraints`, `ConstraintFailures`,
+ *   `SegmentsKept`, `ContactSegments`, `CoverSegments`, `Constraints`, `ConstraintFailures`,
  *   `Triangles`, `Wedges` (wedges traced, after culling).
  *
  * Receivers are meshed in parallel with vtkSMPTools; the output does not
@@ -119,8 +119,10 @@ public:
 
   ///@{
   /**
-   * Contact lines where an occluder touches a receiver (order 0), and no mesh
-   * under solids standing on a receiver. Default on.
+   * Contact lines where an occluder touches a receiver (order 0), no mesh
+   * under solids standing on a receiver, and lines under covers (polygons
+   * close in front of a receiver, such as a fixture hung just below a
+   * ceiling: their outline and loops inside it, order 2). Default on.
    */
   vtkSetMacro(Contacts, bool);
   vtkGetMacro(Contacts, bool);

@@ -154,15 +154,15 @@ def test_coarse_level_converges_to_every_sample_on_cornell():
         print("Cornell, %d of %d samples shot on: mean error %.4f of the mean indirect, "
               "absorbed power off by %.2e" % (field(result, "IndirectSamples")[0], samples,
                                               errors[-1], gaps[-1]))
-    # The gap falls until the level agrees with every sample to 1e-3 of the
-    # absorbed power, and the finer levels stay there: what is left is the
-    # secondary shadows, evaluated exactly at every sample (strong shooters
-    # shot alone first) but by the fast method in sweeps on a coarse level
-    # (no single shots there), and it is not monotone in the level (measured
-    # 1.2e-3, 4.7e-4 and 6.0e-4, 7.1e-4 at 1/4 and 1/2 of the samples on two
-    # sample meshes of the same tolerance).
-    assert gaps[1] < gaps[0] and gaps[2] < gaps[1] and max(gaps[2:]) <= 1.25e-3
-    assert gaps[3] <= 1e-3
+    # The gap falls with every finer level. What is left at 1/2 (2.6e-3,
+    # measured 2026-12-04) is mostly the ceiling behind the light, hung
+    # 0.5 mm below it: the samples follow the light's cover lines
+    # (penumbraCovers.h) and find it dark, while the lattice's triangles
+    # straddling the light's outline shoot and receive as if partly lit.
+    # Before the cover lines the samples leaked there too, and the two agreed
+    # to 1e-3 (measured 1.2e-3, 4.7e-4 and 6.0e-4, 7.1e-4 at 1/4 and 1/2).
+    assert gaps[1] < gaps[0] and gaps[2] < gaps[1] and gaps[3] < gaps[2]
+    assert gaps[3] <= 3e-3
     assert errors[-1] < errors[0] / 2
 
 
