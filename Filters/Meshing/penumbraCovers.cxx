@@ -96,8 +96,20 @@ std::vector<P2> Inset(const std::vector<P2>& p, double d)
     }
     out[i] = { (l0[2] * l1[1] - l0[1] * l1[2]) / det, (l0[0] * l1[2] - l0[2] * l1[0]) / det };
   }
-  // Still the same polygon, shrunk: every corner inside every moved edge and
-  // the winding kept.
+  // Still the same polygon, shrunk: every edge keeps its direction (past
+  // the collapse a rectangle turns inside out in both directions and would
+  // look valid again) and the polygon stays convex.
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const P2& a = p[i];
+    const P2& b = p[(i + 1) % n];
+    const P2& c = out[i];
+    const P2& d = out[(i + 1) % n];
+    if (!((b[0] - a[0]) * (d[0] - c[0]) + (b[1] - a[1]) * (d[1] - c[1]) > 0.0))
+    {
+      return {};
+    }
+  }
   if (!(SignedArea2(out) > 0.0) || !Convex(out))
   {
     return {};
@@ -212,8 +224,8 @@ void AddCovers(const SceneTopology& topology, const OccluderSet& occluders, int 
     {
       continue;
     }
-    // The outline, then loops inset by the gap, twice the gap, ... until the
-    // polygon vanishes.
+    // The outline, then loops inset by the gap, 4 times the gap, ... until
+    // the polygon vanishes.
     const auto addLoop = [&](const std::vector<P2>& loop) {
       for (std::size_t i = 0; i < loop.size(); ++i)
       {
@@ -223,7 +235,7 @@ void AddCovers(const SceneTopology& topology, const OccluderSet& occluders, int 
           Segment2 s;
           s.A = piece.first;
           s.B = piece.second;
-          s.Order = 2;
+          s.Order = 1;
           s.SourceId = -1;
           out.push_back(s);
           ++stats.CoverSegments;
@@ -231,7 +243,7 @@ void AddCovers(const SceneTopology& topology, const OccluderSet& occluders, int 
       }
     };
     addLoop(outline);
-    for (double inset = nearest;; inset *= 2.0)
+    for (double inset = nearest;; inset *= 4.0)
     {
       const std::vector<P2> loop = Inset(outline, inset);
       if (loop.empty())

@@ -8,8 +8,10 @@
  * the interreflected light falls steeply inside its outline, where the
  * direct light alone would place no sample (an unlit ceiling, an umbra).
  * The cover's outline projected onto the receiver and loops inset from it
- * at distances doubling from the gap become lines of order 2 (no kink or
- * jump across them), whose points carry that fall. Private.
+ * at the gap, 4 times the gap, ... become lines of order 1, whose points
+ * carry that fall: as the gap closes it becomes a jump, so the
+ * reconstruction fits each side on its own (a kink, not a smooth
+ * crossing, which overshoots far from so steep a fall). Private.
  *
  * Design notes: Documentation/design/meshing.md
  */
@@ -34,7 +36,7 @@ namespace detail
 /// extent across an edge).
 constexpr double kCoverGapRatio = 0.1;
 
-/// Append receiver `receiverId`'s cover lines (order 2) to `out`.
+/// Append receiver `receiverId`'s cover lines (order 1, no source) to `out`.
 void AddCovers(const SceneTopology& topology, const OccluderSet& occluders, int receiverId,
   const DiscontinuityMeshSettings& settings, const ReceiverFrame& frame,
   std::vector<Segment2>& out, DiscontinuityMeshStatistics& stats);

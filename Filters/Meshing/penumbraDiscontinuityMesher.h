@@ -135,7 +135,7 @@ struct DiscontinuityMeshStatistics
   std::size_t SegmentsGenerated = 0;  ///< shadow-boundary pieces found on receivers (traced wedges)
   std::size_t SegmentsKept = 0;       ///< of those, kept by the jump threshold
   std::size_t ContactSegments = 0;    ///< contact pieces (order 0) on receivers
-  std::size_t CoverSegments = 0;      ///< cover pieces (order 2): outlines and loops under covers
+  std::size_t CoverSegments = 0;      ///< cover pieces (order 1): outlines and loops under covers
   std::size_t Constraints = 0;        ///< constraints inserted (after merging collinear pieces)
   std::size_t ConstraintFailures = 0; ///< constraint insertions that threw (should be 0)
   std::size_t Points = 0;             ///< output points (with order-0 copies)

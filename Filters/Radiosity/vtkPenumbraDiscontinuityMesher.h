@@ -122,7 +122,7 @@ public:
    * Contact lines where an occluder touches a receiver (order 0), no mesh
    * under solids standing on a receiver, and lines under covers (polygons
    * close in front of a receiver, such as a fixture hung just below a
-   * ceiling: their outline and loops inside it, order 2). Default on.
+   * ceiling: their outline and loops inside it, order 1). Default on.
    */
   vtkSetMacro(Contacts, bool);
   vtkGetMacro(Contacts, bool);

@@ -40,7 +40,10 @@
  *   corners left are renormalised, and a fine point left with none (a
  *   pocket narrower than the spacing) is evaluated on its own: it joins the
  *   coarse samples as a point outside every triangle, which receives the
- *   shots but carries no power.
+ *   shots but carries no power (evaluated a little inside its fine
+ *   triangles, as boundary samples are). A surface with more such points than
+ *   lattice points and a quarter of its fine points (clutter everywhere)
+ *   keeps plain interpolation for them.
  *
  * What is lost: the indirect light is resolved to the spacing (contact
  * shadows of secondary sources narrower than it are blurred), and the
@@ -135,6 +138,7 @@ private:
   /// Fine points evaluated on their own; the k-th is coarse sample Points.size() + k.
   std::vector<int> Separate;
   std::vector<int> SeparateIndex; ///< per fine point: its place in Separate, or -1
+  std::vector<Vec3> SeparatePoints; ///< where each is evaluated (moved off contact lines)
 };
 
 /**
