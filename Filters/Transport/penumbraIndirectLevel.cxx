@@ -324,7 +324,15 @@ std::size_t IndirectLevel::SeparateOccluded(
         keep[3 * k + c] = usable ? 1 : 0;
         sum += usable ? where.Weights[c] : 0.0;
       }
-      alone[k] = sum > 0.0 ? 0 : 1;
+      // A point that lost a corner lies near an occluder, whose shadow of
+      // the interreflected light (a contact, a pocket) the lattice cannot
+      // follow: it is evaluated on its own too.
+      double all = 0.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        all += where.Weights[c] > 0.0 ? where.Weights[c] : 0.0;
+      }
+      alone[k] = sum < all ? 1 : 0;
     }
   });
   // Points on their own cost as much as lattice points: on a cluttered
@@ -343,25 +351,24 @@ std::size_t IndirectLevel::SeparateOccluded(
   for (std::size_t k = 0; k < count; ++k)
   {
     Location& where = this->FineLocations[k];
-    if (alone[k] && !separate)
-    {
-      continue;
-    }
-    if (alone[k])
+    if (alone[k] && separate)
     {
       this->SeparateIndex[k] = static_cast<int>(this->Separate.size());
       this->Separate.push_back(static_cast<int>(k));
       continue;
     }
+    // Otherwise (a cluttered surface) from the corners it keeps, or all.
     double sum = 0.0;
     for (int c = 0; c < 3; ++c)
     {
-      where.Weights[c] = keep[3 * k + c] ? where.Weights[c] : 0.0;
-      sum += where.Weights[c];
+      sum += keep[3 * k + c] ? where.Weights[c] : 0.0;
     }
-    for (double& weight : where.Weights)
+    if (sum > 0.0)
     {
-      weight /= sum;
+      for (int c = 0; c < 3; ++c)
+      {
+        where.Weights[c] = keep[3 * k + c] ? where.Weights[c] / sum : 0.0;
+      }
     }
   }
   // A point on its own lies in no triangle, so the shooter evaluates it

@@ -36,14 +36,15 @@
  *   onto the ceiling behind a fixture hung just below it, round a table
  *   leg. A lattice corner lends its light to a fine point only if the two
  *   see each other at a height above the surface (half the spacing) and are
- *   both covered or both uncovered within that height; the weights of the
- *   corners left are renormalised, and a fine point left with none (a
- *   pocket narrower than the spacing) is evaluated on its own: it joins the
- *   coarse samples as a point outside every triangle, which receives the
- *   shots but carries no power (evaluated a little inside its fine
- *   triangles, as boundary samples are). A surface with more such points than
- *   lattice points and a quarter of its fine points (clutter everywhere)
- *   keeps plain interpolation for them.
+ *   both covered or both uncovered within that height. A fine point that
+ *   loses a corner lies near an occluder, whose shadow of the interreflected
+ *   light (a contact, a pocket narrower than the spacing) the lattice cannot
+ *   follow: it is evaluated on its own. It joins the coarse samples as a
+ *   point outside every triangle, which receives the shots but carries no
+ *   power (evaluated a little inside its fine triangles, as boundary
+ *   samples are). A surface with more such points than lattice points and a
+ *   quarter of its fine points (clutter everywhere) interpolates them from
+ *   the corners they keep (all, if none).
  *
  * What is lost: the indirect light is resolved to the spacing (contact
  * shadows of secondary sources narrower than it are blurred), and the

@@ -299,8 +299,19 @@ PENUMBRA_TEST(TestSeparateOccluded)
   PENUMBRA_EXPECT(under == 9 && checked == 81 * 80 - 16);
   PENUMBRA_EXPECT_NEAR(worst, 0.0, 1e-12);
   // Only points near the occluders are evaluated on their own: those under
-  // the plate and some along the wall's foot.
-  PENUMBRA_EXPECT(separate >= 9 && separate < 300);
+  // the plate and those sharing a lattice triangle (0.94 across) with a
+  // corner beyond the wall or under the plate.
+  PENUMBRA_EXPECT(separate >= 9 && separate < fine.Points.size() / 2);
+  double farthest = 0.0;
+  for (std::size_t k = level.GetNumberOfPoints(); k < before.Points.size(); ++k)
+  {
+    const Vec3& x = before.Points[k];
+    const double toWall = std::abs(x.X - 3.0);
+    const double toPlate = std::hypot(std::max({ 1.0 - x.X, x.X - 1.2, 0.0 }),
+      std::max({ 1.0 - x.Z, x.Z - 1.2, 0.0 }));
+    farthest = std::max(farthest, std::min(toWall, toPlate));
+  }
+  PENUMBRA_EXPECT(farthest < 0.95);
 
   // Without the separation, light crosses both (the premise of the test).
   SurfaceSamples plain = fine;
