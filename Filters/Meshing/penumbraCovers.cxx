@@ -169,8 +169,9 @@ void AddCovers(const SceneTopology& topology, const OccluderSet& occluders, int 
   const double tol = std::max(settings.ContactTolerance * topology.Size, kLinear * topology.Size);
   const double snap = kSnap * topology.Size;
   // The candidates: polygons meeting the slab in front of the receiver as
-  // thick as the largest gap a cover of the scene's size could have.
-  const double thickness = kCoverGapRatio * topology.Size;
+  // thick as the largest gap a cover could have over it (the pocket lies on
+  // the receiver, so its width is at most the receiver's diameter).
+  const double thickness = kCoverGapRatio * r.Diameter;
   CullingVolume slab;
   Vec3 lo = r.V[0], hi = r.V[0];
   for (const Vec3& p : r.V)
@@ -213,14 +214,15 @@ void AddCovers(const SceneTopology& topology, const OccluderSet& occluders, int 
     {
       std::reverse(outline.begin(), outline.end());
     }
-    if (!Convex(outline) || !(farthest <= kCoverGapRatio * Width(outline)))
+    if (!(farthest <= thickness) || !Convex(outline))
     {
       continue;
     }
     // The pocket: the part of the cover over the receiver (a cover larger
     // than the receiver, such as a floor under a plate, leaves the plate's
-    // own outline as the pocket's).
-    if (!ClipToConvexOutline(frame.Outline, outline))
+    // own outline as the pocket's). The gap must be small next to it.
+    if (!ClipToConvexOutline(frame.Outline, outline) ||
+      !(farthest <= kCoverGapRatio * Width(outline)))
     {
       continue;
     }

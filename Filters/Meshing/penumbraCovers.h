@@ -32,8 +32,9 @@ namespace detail
 {
 
 /// A polygon covers a receiver when all its vertices lie in front of it,
-/// none farther than this fraction of the polygon's width (its smallest
-/// extent across an edge).
+/// none farther than this fraction of the width of the pocket (the part of
+/// the polygon over the receiver; the width is its smallest extent across
+/// an edge).
 constexpr double kCoverGapRatio = 0.1;
 
 /// Append receiver `receiverId`'s cover lines (order 1, no source) to `out`.
