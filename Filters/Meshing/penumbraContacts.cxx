@@ -82,23 +82,8 @@ private:
 
 std::vector<int> ContactFinder::NearPolygons(const OccluderSet& occluders, int receiverId) const
 {
-  const PolygonData& r = this->Receiver;
-  const double tol = this->Tol;
-  CullingVolume slab;
-  Vec3 lo = r.V[0], hi = r.V[0];
-  for (const Vec3& p : r.V)
-  {
-    lo = Vec3(std::min(lo.X, p.X), std::min(lo.Y, p.Y), std::min(lo.Z, p.Z));
-    hi = Vec3(std::max(hi.X, p.X), std::max(hi.Y, p.Y), std::max(hi.Z, p.Z));
-  }
-  slab.BoxMin = lo - Vec3(tol, tol, tol);
-  slab.BoxMax = hi + Vec3(tol, tol, tol);
-  slab.Planes.push_back({ r.N, r.D - tol });
-  slab.Planes.push_back({ -r.N, -r.D - tol });
-  std::vector<int> near;
-  occluders.VolumeCandidates(slab, receiverId, -1, near);
-  std::sort(near.begin(), near.end());
-  return near;
+  return PolygonsNearPlane(
+    this->Topology, occluders, receiverId, -this->Tol, this->Tol, this->Tol);
 }
 
 bool ContactFinder::OnOutline(const P2& a, const P2& b) const
@@ -235,6 +220,27 @@ void ContactFinder::AddFootprint(int c, std::vector<Segment2>& out) const
 }
 
 } // namespace
+
+std::vector<int> PolygonsNearPlane(const SceneTopology& topology, const OccluderSet& occluders,
+  int receiverId, double nearDistance, double farDistance, double margin)
+{
+  const PolygonData& r = topology.Polygons[receiverId];
+  CullingVolume slab;
+  Vec3 lo = r.V[0], hi = r.V[0];
+  for (const Vec3& p : r.V)
+  {
+    lo = Vec3(std::min(lo.X, p.X), std::min(lo.Y, p.Y), std::min(lo.Z, p.Z));
+    hi = Vec3(std::max(hi.X, p.X), std::max(hi.Y, p.Y), std::max(hi.Z, p.Z));
+  }
+  slab.BoxMin = lo - Vec3(margin, margin, margin);
+  slab.BoxMax = hi + Vec3(margin, margin, margin);
+  slab.Planes.push_back({ r.N, r.D + nearDistance });
+  slab.Planes.push_back({ -r.N, -r.D - farDistance });
+  std::vector<int> polygons;
+  occluders.VolumeCandidates(slab, receiverId, -1, polygons);
+  std::sort(polygons.begin(), polygons.end());
+  return polygons;
+}
 
 void AddContacts(const SceneTopology& topology, const OccluderSet& occluders, int receiverId,
   const DiscontinuityMeshSettings& settings, const ReceiverFrame& frame,

@@ -23,6 +23,13 @@ class OccluderSet;
 namespace detail
 {
 
+/// The polygons (sorted ids, the receiver left out) that may meet the slab
+/// of points at signed distances [nearDistance, farDistance] from receiver
+/// `receiverId`'s plane (along its normal), over its bounding box widened by
+/// `margin`.
+std::vector<int> PolygonsNearPlane(const SceneTopology& topology, const OccluderSet& occluders,
+  int receiverId, double nearDistance, double farDistance, double margin);
+
 /// Append receiver `receiverId`'s contact lines (Order 0) and the outlines
 /// of the footprints of solids standing on it (Order 0, Removal) to `out`.
 void AddContacts(const SceneTopology& topology, const OccluderSet& occluders, int receiverId,

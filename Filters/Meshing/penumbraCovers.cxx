@@ -2,6 +2,8 @@
 // Cover lines on one receiver.
 #include "penumbraCovers.h"
 
+#include "penumbraContacts.h"
+
 #include "penumbraMeshingTolerances.h"
 #include "penumbraOccluderSet.h"
 
@@ -172,21 +174,8 @@ void AddCovers(const SceneTopology& topology, const OccluderSet& occluders, int 
   // thick as the largest gap a cover could have over it (the pocket lies on
   // the receiver, so its width is at most the receiver's diameter).
   const double thickness = kCoverGapRatio * r.Diameter;
-  CullingVolume slab;
-  Vec3 lo = r.V[0], hi = r.V[0];
-  for (const Vec3& p : r.V)
-  {
-    lo = Vec3(std::min(lo.X, p.X), std::min(lo.Y, p.Y), std::min(lo.Z, p.Z));
-    hi = Vec3(std::max(hi.X, p.X), std::max(hi.Y, p.Y), std::max(hi.Z, p.Z));
-  }
-  const Vec3 reach(thickness, thickness, thickness);
-  slab.BoxMin = lo - reach;
-  slab.BoxMax = hi + reach;
-  slab.Planes.push_back({ r.N, r.D + tol });
-  slab.Planes.push_back({ -r.N, -r.D - thickness });
-  std::vector<int> candidates;
-  occluders.VolumeCandidates(slab, receiverId, -1, candidates);
-  std::sort(candidates.begin(), candidates.end());
+  const std::vector<int> candidates =
+    PolygonsNearPlane(topology, occluders, receiverId, tol, thickness, thickness);
 
   std::vector<Interval> scratch;
   std::vector<std::pair<P2, P2>> pieces;
