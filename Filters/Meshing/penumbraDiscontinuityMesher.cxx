@@ -15,6 +15,7 @@
 #include "penumbraReceiverFrame.h"
 #include "penumbraReceiverTriangulation.h"
 #include "penumbraSceneTopology.h"
+#include "penumbraShortEdges.h"
 #include "penumbraTimer.h"
 #include "penumbraVisualEvents.h"
 
@@ -50,6 +51,7 @@ DiscontinuityMeshStatistics& DiscontinuityMeshStatistics::operator+=(
   this->Points += o.Points;
   this->Triangles += o.Triangles;
   this->DroppedDegenerate += o.DroppedDegenerate;
+  this->MergedTriangles += o.MergedTriangles;
   this->RemovedArea += o.RemovedArea;
   this->BoundarySeconds += o.BoundarySeconds;
   this->TriangulationSeconds += o.TriangulationSeconds;
@@ -253,9 +255,23 @@ std::vector<detail::Segment2> DiscontinuityMesher::Internals::Boundaries(int rec
   // JumpThreshold times it are not even traced (see ShadowEvents::Faint).
   const double minimumJump =
     detail::MinimumJump(this->Topology, this->ValidScene, receiverId, shooters, settings);
+  const detail::PolygonData& receiver = this->Topology.Polygons[receiverId];
+  double receiverRadius = 0.0;
+  for (const Vec3& v : receiver.V)
+  {
+    receiverRadius = std::max(receiverRadius, Length(v - receiver.Centroid));
+  }
   for (int s : shooters)
   {
-    if (s != receiverId)
+    // A shooter whose whole light on the receiver stays below the minimum
+    // jump casts no boundary worth tracing (the margin keeps rounding from
+    // dropping one at the threshold).
+    const bool faint = minimumJump >= 0.0 && settings.CullWedges &&
+      detail::JumpRadiance(this->ValidScene, settings, s) *
+          detail::FormFactorBound(this->Topology.Polygons[s], receiver, receiverRadius, true) *
+          (1.0 + 1e-9) <
+        minimumJump;
+    if (s != receiverId && !faint)
     {
       detail::ShadowEvents(this->Topology, this->Occluders, this->ValidScene, settings, frame,
         receiverId, s, minimumJump, segments, stats)
@@ -371,6 +387,15 @@ ReceiverMesh DiscontinuityMesher::MeshReceiver(int receiverId,
   stats.TriangulationSeconds = Seconds(triangulationStart);
   stats.ConstraintFailures += result.Failures;
   stats.DroppedDegenerate += result.DroppedDegenerate;
+  if (!(settings.MinimumAngle > 0.0))
+  {
+    // Refinement makes its small triangles on purpose, around sharp angles
+    // between constraints; without it, such edges are rounding errors.
+    const detail::MergeCounts merged = detail::MergeShortEdges(
+      result.Mesh, rec.N, detail::kMinPiece * this->Internal->Topology.Size, rec.V);
+    stats.MergedTriangles += merged.Collapsed;
+    stats.DroppedDegenerate += merged.Inverted;
+  }
   stats.RemovedArea += result.RemovedArea;
   stats.Points += result.Mesh.Points.size();
   stats.Triangles += result.Mesh.Triangles.size();

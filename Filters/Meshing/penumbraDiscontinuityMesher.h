@@ -141,6 +141,9 @@ struct DiscontinuityMeshStatistics
   std::size_t Points = 0;             ///< output points (with order-0 copies)
   std::size_t Triangles = 0;          ///< output triangles
   std::size_t DroppedDegenerate = 0;  ///< triangles of zero area after rounding, dropped (should be 0)
+  /// Triangles dropped because two of their corners, a rounding error apart
+  /// (closer than 1e-7 of the scene size), were merged into one point.
+  std::size_t MergedTriangles = 0;
   double RemovedArea = 0.0;           ///< receiver area under standing solids, not meshed
   double BoundarySeconds = 0.0;       ///< wall time for events, visibility, clipping, merging
   double TriangulationSeconds = 0.0;  ///< wall time for the triangulations

@@ -113,15 +113,44 @@ void DropFaintShadows(const SceneTopology& topology, const Scene& scene, int rec
   segments.resize(write);
 }
 
-double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double receiverRadius)
+namespace
+{
+
+// The largest cosine between `normal` and a direction within `halfAngle` of
+// unit direction `u`.
+double LargestCosine(const Vec3& normal, const Vec3& u, double halfAngle)
+{
+  const double angle = std::acos(std::max(-1.0, std::min(1.0, Dot(normal, u))));
+  return angle <= halfAngle ? 1.0 : std::max(0.0, std::cos(angle - halfAngle));
+}
+
+} // namespace
+
+double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double receiverRadius,
+  bool emitsFromFront)
 {
   double radius = 0.0;
   for (const Vec3& v : p.V)
   {
     radius = std::max(radius, Length(v - p.Centroid));
   }
-  const double d = Length(p.Centroid - receiver.Centroid) - radius - receiverRadius;
-  return d > 0.0 ? std::min(1.0, p.Area / (Pi * d * d)) : 1.0;
+  const Vec3 between = p.Centroid - receiver.Centroid;
+  const double distance = Length(between);
+  const double d = distance - radius - receiverRadius;
+  if (!(d > 0.0))
+  {
+    return 1.0;
+  }
+  // Every line from the receiver to p lies within this angle of the line
+  // between their centres; the cosines at its ends are bounded accordingly.
+  const Vec3 u = between * (1.0 / distance);
+  const double halfAngle = std::asin(std::min(1.0, (radius + receiverRadius) / distance));
+  double cosines = LargestCosine(receiver.N, u, halfAngle);
+  if (emitsFromFront)
+  {
+    cosines *= LargestCosine(p.N, u * -1.0, halfAngle);
+  }
+  return std::min(1.0, cosines * p.Area / (Pi * d * d));
 }
 
 } // namespace detail

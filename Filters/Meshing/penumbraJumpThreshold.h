@@ -39,10 +39,13 @@ void DropFaintShadows(const SceneTopology& topology, const Scene& scene, int rec
   std::size_t first, std::vector<Segment2>& segments);
 
 /// An upper bound of the form factor from any point of `receiver` (of
-/// radius `receiverRadius` about its centroid) to polygon p: A / (pi d^2),
-/// d the distance between the two (bounded below by their centres' distance
-/// minus their radii), and at most 1.
-double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double receiverRadius);
+/// radius `receiverRadius` about its centroid) to polygon p: c A / (pi d^2),
+/// at most 1, with d the distance between the two (bounded below by their
+/// centres' distance minus their radii) and c the largest cosine at the
+/// receiver's normal over the directions towards p, times the largest at p's
+/// normal when p emits from its front only (a shooter; not an occluder).
+double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double receiverRadius,
+  bool emitsFromFront);
 
 } // namespace detail
 } // namespace penumbra

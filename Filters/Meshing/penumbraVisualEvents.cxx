@@ -215,12 +215,12 @@ bool ShadowEvents::Faint(int occluderA, int occluderB) const
   }
   const std::vector<PolygonData>& polygons = this->Topology.Polygons;
   const double receiverRadius = this->Ctx.ReceiverRadius;
-  double bound = FormFactorBound(polygons[this->ShooterId], this->Rec, receiverRadius);
+  double bound = FormFactorBound(polygons[this->ShooterId], this->Rec, receiverRadius, true);
   for (int k : { occluderA, occluderB })
   {
     if (k >= 0)
     {
-      bound = std::min(bound, FormFactorBound(polygons[k], this->Rec, receiverRadius));
+      bound = std::min(bound, FormFactorBound(polygons[k], this->Rec, receiverRadius, false));
     }
   }
   // The margin keeps rounding from dropping a wedge at the threshold.
