@@ -27,6 +27,9 @@ constexpr int CubicModelPoints = 12;
 // rounding error apart, and its value difference over that distance would
 // dictate the gradient (the rows are weighted by the inverse distance).
 constexpr double CoincidentFraction = 1e-4;
+// A fitted gradient is at most this many times the steepest secant from the
+// fitted point to a point of its stencil (see LimitGradients).
+constexpr double SecantFactor = 2.0;
 
 } // namespace
 
@@ -282,6 +285,52 @@ void Reconstruction::Internals::SolveCollinear(
 }
 
 //------------------------------------------------------------------------------
+// Per channel, SecantFactor times the steepest secant |f(q) - f(v)| / |q - v|
+// from v to a point q of the stencil. A smooth function's gradient is within
+// a small factor of its steepest secant over points around it, but a least-
+// squares fit whose stencil is nearly degenerate (points along one line,
+// the two sides of a discontinuity interleaved on it a few micrometres
+// apart, a single point off it) can return gradients a million times
+// steeper, which the interpolant then spreads over every triangle at v.
+void Reconstruction::Internals::SecantBounds(
+  int v, const FitWorkspace& w, std::vector<double>& bounds) const
+{
+  const double* pv = this->P(v);
+  std::fill(bounds.begin(), bounds.end(), 0.0);
+  for (int q : w.Points)
+  {
+    const double d = std::hypot(this->P(q)[0] - pv[0], this->P(q)[1] - pv[1]);
+    for (int c = 0; c < this->NC; ++c)
+    {
+      bounds[c] = std::max(bounds[c], std::abs(this->Value(q, c) - this->Value(v, c)) / d);
+    }
+  }
+  for (double& b : bounds)
+  {
+    b *= SecantFactor;
+  }
+}
+
+// Scale each channel's gradient (the first two of its `stride` coefficients
+// in `fit`) down to its bound.
+void Reconstruction::Internals::LimitGradient(
+  const std::vector<double>& bounds, double* fit, int stride)
+{
+  for (int c = 0; c < this->NC; ++c)
+  {
+    double* g = fit + static_cast<std::size_t>(c) * stride;
+    const double norm = std::hypot(g[0], g[1]);
+    if (norm > bounds[c])
+    {
+      const double scale = norm > 0.0 ? bounds[c] / norm : 0.0;
+      g[0] *= scale;
+      g[1] *= scale;
+      ++this->Statistics.LimitedGradients;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
 void Reconstruction::Internals::FitGradients()
 {
   const int ns = static_cast<int>(this->SectorPoint.size());
@@ -289,6 +338,7 @@ void Reconstruction::Internals::FitGradients()
   this->SectorFit.assign(static_cast<std::size_t>(ns) * 5 * nc, 0.0);
   this->SectorModel.assign(static_cast<std::size_t>(ns) * 9 * nc, 0.0);
   FitWorkspace w;
+  std::vector<double> bounds(nc);
   w.PointStamp.assign(this->Mesh.GetNumberOfPoints(), 0);
   w.TriangleStamp.assign(this->Mesh.GetNumberOfTriangles(), 0);
   for (int s = 0; s < ns; ++s)
@@ -320,6 +370,8 @@ void Reconstruction::Internals::FitGradients()
     {
       ++this->Statistics.ZeroGradients;
     }
+    this->SecantBounds(v, w, bounds);
+    this->LimitGradient(bounds, fit, 5);
     // Error model: a cubic fit (on rings 2-3 when ring 2 is too small), or
     // the quadratic when the stencil cannot determine a cubic.
     double* model = this->SectorModel.data() + static_cast<std::size_t>(s) * 9 * nc;
@@ -342,6 +394,7 @@ void Reconstruction::Internals::FitGradients()
     if (w.Usable == 9)
     {
       this->SolveFit(9, w, model, 9);
+      this->LimitGradient(bounds, model, 9);
       ++this->Statistics.CubicModels;
     }
     else

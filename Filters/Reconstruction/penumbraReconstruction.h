@@ -132,6 +132,9 @@ struct ReconstructionStatistics
   int QuadraticFits = 0;      ///< sectors fitted with a quadratic
   int LinearFits = 0;         ///< sectors that fell back to a linear fit
   int ZeroGradients = 0;      ///< sectors with no usable neighbour (gradient 0)
+  /// (sector, channel) fitted gradients scaled down to twice the steepest
+  /// secant to a point of their stencil (a nearly degenerate stencil)
+  int LimitedGradients = 0;
   int CubicModels = 0;        ///< sectors whose error model is a cubic fit
   int ConstrainedSectors = 0; ///< sectors projected for continuity across order-1 edges
   int ProjectedGradients = 0; ///< (point, channel) gradients moved for non-negative corners

@@ -96,6 +96,8 @@ struct Reconstruction::Internals
   void GatherNeighbours(int s, int minPoints, int maxRings, FitWorkspace& w) const;
   void FactorFit(int v, int maxColumns, FitWorkspace& w) const;
   void SolveFit(int columns, FitWorkspace& w, double* out, int stride) const;
+  void SecantBounds(int v, const FitWorkspace& w, std::vector<double>& bounds) const;
+  void LimitGradient(const std::vector<double>& bounds, double* fit, int stride);
   void SolveCollinear(int v, FitWorkspace& w, double* out, int stride) const;
   void FitGradients();
 
