@@ -188,6 +188,7 @@ void Reconstruction::Build(const SampleMesh& mesh, const ReconstructionOptions& 
   in->BuildSectors();
   in->FitGradients();
   in->EnforceLineContinuity();
+  in->LimitOvershoot();
   if (options.EnforceNonNegativity && options.Mode == ReconstructionMode::CloughTocher)
   {
     in->EnforceNonNegativity();

@@ -135,6 +135,9 @@ struct ReconstructionStatistics
   /// (sector, channel) fitted gradients scaled down to twice the steepest
   /// secant to a point of their stencil (a nearly degenerate stencil)
   int LimitedGradients = 0;
+  /// (sector, channel) gradients scaled down so that the interpolant does not
+  /// overshoot over triangles much larger than the point's smallest
+  int OvershootGradients = 0;
   int CubicModels = 0;        ///< sectors whose error model is a cubic fit
   int ConstrainedSectors = 0; ///< sectors projected for continuity across order-1 edges
   int ProjectedGradients = 0; ///< (point, channel) gradients moved for non-negative corners

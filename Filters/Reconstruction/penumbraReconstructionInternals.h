@@ -119,6 +119,9 @@ struct Reconstruction::Internals
   void ProjectCornerGradients();
   void EnforceNonNegativity();
 
+  // penumbraOvershoot.cxx
+  void LimitOvershoot();
+
   // penumbraPointLocation.cxx
   void Barycentric(int t, double u, double v, double b[3]) const;
   void BuildGrid();
