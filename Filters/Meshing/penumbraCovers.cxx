@@ -72,7 +72,7 @@ bool Convex(const std::vector<P2>& p)
 }
 
 /// The convex counter-clockwise polygon `p` with every edge moved inward by
-/// `d` (outward when d < 0); empty when it vanishes.
+/// `d`; empty when it vanishes.
 std::vector<P2> Inset(const std::vector<P2>& p, double d)
 {
   const std::size_t n = p.size();
@@ -242,19 +242,6 @@ void AddCovers(const SceneTopology& topology, const OccluderSet& occluders, int 
         break;
       }
       addLoop(loop);
-    }
-    // Outside, the light rises from the pocket's edge to the open
-    // receiver's within a few gaps: loops at the same distances outward, up
-    // to half the pocket's width, carry that rise instead of a slope from
-    // the dark edge to the nearest sample of the open receiver.
-    const double reach = 0.5 * Width(outline);
-    for (double outset = nearest; outset <= reach; outset *= 4.0)
-    {
-      const std::vector<P2> loop = Inset(outline, -outset);
-      if (!loop.empty())
-      {
-        addLoop(loop);
-      }
     }
   }
 }

@@ -8,8 +8,7 @@
  * the interreflected light falls steeply inside its outline, where the
  * direct light alone would place no sample (an unlit ceiling, an umbra).
  * The cover's outline projected onto the receiver and loops inset from it
- * at the gap, 4 times the gap, ... (and outward, where the light rises back
- * to the open receiver's) become lines of order 1, whose points
+ * at the gap, 4 times the gap, ... become lines of order 1, whose points
  * carry that fall: as the gap closes it becomes a jump, so the
  * reconstruction fits each side on its own (a kink, not a smooth
  * crossing, which overshoots far from so steep a fall). Private.
