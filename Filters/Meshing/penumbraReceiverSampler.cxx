@@ -41,8 +41,10 @@ ReceiverSampler::ReceiverSampler(const ReceiverMesh& mesh, const RadianceBatchFu
   , Stats(result.Statistics)
   , PassInterpolant(settings.Interpolant)
 {
-  // The passes compare values with the interpolant only: no error model.
+  // The passes compare values with the interpolant only: no error model, and
+  // no overshoot limit (an overshoot marks where the samples are too sparse).
   this->PassInterpolant.ErrorModel = false;
+  this->PassInterpolant.LimitOvershoot = false;
 }
 
 //------------------------------------------------------------------------------

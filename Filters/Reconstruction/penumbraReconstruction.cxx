@@ -188,7 +188,10 @@ void Reconstruction::Build(const SampleMesh& mesh, const ReconstructionOptions& 
   in->BuildSectors();
   in->FitGradients();
   in->EnforceLineContinuity();
-  in->LimitOvershoot();
+  if (options.LimitOvershoot)
+  {
+    in->LimitOvershoot();
+  }
   if (options.EnforceNonNegativity && options.Mode == ReconstructionMode::CloughTocher)
   {
     in->EnforceNonNegativity();

@@ -123,6 +123,16 @@ struct ReconstructionOptions
   /// (the adaptive sampler's passes). Ignored (the model is fitted) when
   /// CubicGradients is on. [true]
   bool ErrorModel = true;
+  /// Scale each point's gradients so that along every edge of its triangles
+  /// the interpolant changes by at most 3 times the spread of the values
+  /// around the point (or the change of the value along the edge): no
+  /// overshoot over triangles much larger than the point's smallest, such
+  /// as a corner of a contact shadow sampled a fraction of a millimetre
+  /// apart that is also the corner of a triangle 30 cm long (design notes,
+  /// "Overshoot over large triangles"). The adaptive sampler's interpolants
+  /// turn it off: they look for where the samples are too sparse, which the
+  /// overshoot shows. [true]
+  bool LimitOvershoot = true;
 };
 
 /// What Build did, for diagnostics and tests.
