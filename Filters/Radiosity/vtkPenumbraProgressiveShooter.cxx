@@ -159,7 +159,9 @@ void CollectSurfaceSamples(vtkPolyData* samples, vtkDataArray* radiance,
 }
 
 /// The output's `Radiance`: the input's, with the shot samples' totals.
-void WriteTotals(vtkDataArray* radiance,
+/// Returns the area-mean of what the shots added (the indirect radiance)
+/// over the sample triangles of all surfaces.
+penumbra::RGB WriteTotals(vtkDataArray* radiance,
   const std::unordered_map<int, std::vector<vtkIdType>>& global,
   const penumbra::IndirectSampling& sampling, const penumbra::ProgressiveShooter& shooter,
   vtkPolyData* output)
@@ -167,16 +169,32 @@ void WriteTotals(vtkDataArray* radiance,
   vtkNew<vtkDoubleArray> total;
   total->DeepCopy(radiance);
   total->SetName("Radiance");
+  penumbra::RGB indirect;
+  double area = 0.0;
   for (const auto& entry : global)
   {
     const penumbra::SurfaceSamples& s = sampling.GetSamples(entry.first, shooter);
+    std::vector<penumbra::RGB> added(entry.second.size());
     for (std::size_t k = 0; k < entry.second.size(); ++k)
     {
+      double direct[3];
+      radiance->GetTuple(entry.second[k], direct);
+      added[k] = penumbra::RGB(s.Total[k].R - direct[0], s.Total[k].G - direct[1],
+        s.Total[k].B - direct[2]);
       total->SetTuple3(entry.second[k], s.Total[k].R, s.Total[k].G, s.Total[k].B);
+    }
+    for (const std::array<int, 3>& tri : s.Triangles)
+    {
+      const double a = 0.5 *
+        penumbra::Length(penumbra::Cross(s.Points[tri[1]] - s.Points[tri[0]],
+          s.Points[tri[2]] - s.Points[tri[0]]));
+      area += a;
+      indirect = indirect + (added[tri[0]] + added[tri[1]] + added[tri[2]]) * (a / 3.0);
     }
   }
   output->GetPointData()->AddArray(total);
   output->GetPointData()->SetActiveScalars("Radiance");
+  return area > 0.0 ? indirect * (1.0 / area) : penumbra::RGB();
 }
 
 /// The shooting summary as field arrays (see the class description).
@@ -284,8 +302,9 @@ int vtkPenumbraProgressiveShooter::Execute(
     });
 
   sampling.Prolong(*shooter);
-  WriteTotals(radiance, global, sampling, *shooter, output);
+  const penumbra::RGB indirect = WriteTotals(radiance, global, sampling, *shooter, output);
   AddShootingFields(output->GetFieldData(), summary, *shooter, sampling.GetSpacing());
+  penumbra::AddField(output->GetFieldData(), "MeanIndirectRadiance", indirect);
   penumbra::AddField(output->GetFieldData(), "IndirectSeparatePoints",
     static_cast<double>(sampling.GetNumberOfSeparatePoints()));
   this->UpdateProgress(1.0);

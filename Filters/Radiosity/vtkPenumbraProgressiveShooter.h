@@ -28,7 +28,10 @@
  * (remaining unshot power / emitted power), `EmittedPower`, `AbsorbedPower`,
  * `EscapedPower` (RGB, watts: power that left an open scene or was lost to
  * discretisation), `UnshotPower`, `ShootingSeconds`, `ShotOrder` (the
- * shooters in order). Progress is reported per shot and abort is honoured
+ * shooters in order), `MeanIndirectRadiance` (RGB: what the shots added,
+ * averaged over the area of all sample triangles; the scale of the
+ * interreflections' error that vtkPenumbraRadianceReconstructor's
+ * CompactIndirectTolerance refers to). Progress is reported per shot and abort is honoured
  * between shots.
  *
  * @sa vtkPenumbraRadianceEvaluator vtkPenumbraRadianceReconstructor

@@ -7,6 +7,7 @@
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -38,6 +39,7 @@ vtkPenumbraRadianceReconstructor::vtkPenumbraRadianceReconstructor()
   this->EnforceNonNegativity = interpolant.EnforceNonNegativity;
   this->DisplayTolerance = display.DisplayTolerance;
   this->CompactTolerance = display.CompactTolerance;
+  this->CompactIndirectTolerance = display.CompactIndirectTolerance;
   this->SubdivisionLevel = display.SubdivisionLevel;
   this->TargetEdgeLength = display.TargetEdgeLength;
   this->ComputeErrorEstimate = display.ComputeErrorEstimate;
@@ -150,6 +152,7 @@ void ReconstructSurface(const SurfaceCells& cells, vtkPoints* points, vtkDataArr
       cells.LineOrders[k] <= 2)
     {
       mesh.AddConstrainedEdge(a->second, b->second, cells.LineOrders[k]);
+      mesh.EdgeLabels.push_back(cells.LineSources[k]);
       keptLines.push_back(k);
     }
   }
@@ -407,6 +410,22 @@ int vtkPenumbraRadianceReconstructor::Execute(
   penumbra::ResampleOptions resample;
   resample.DisplayTolerance = this->DisplayTolerance;
   resample.CompactTolerance = this->CompactTolerance;
+  resample.CompactIndirectTolerance = this->CompactIndirectTolerance;
+  // The indirect part applies where the interreflections were shot on the
+  // coarse level (a positive IndirectSpacing), whose blur is the error it
+  // stands for.
+  vtkDataArray* indirect = input->GetFieldData()->GetArray("MeanIndirectRadiance");
+  vtkDataArray* spacing = input->GetFieldData()->GetArray("IndirectSpacing");
+  if (indirect && spacing && spacing->GetNumberOfTuples() == 1 && spacing->GetComponent(0, 0) > 0.0)
+  {
+    if (indirect->GetNumberOfComponents() == 3 && indirect->GetNumberOfTuples() == 1)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        resample.IndirectRadiance.push_back(std::max(0.0, indirect->GetComponent(0, c)));
+      }
+    }
+  }
   resample.SubdivisionLevel = this->SubdivisionLevel;
   resample.TargetEdgeLength = this->TargetEdgeLength;
   resample.ComputeErrorEstimate = this->ComputeErrorEstimate;
@@ -444,6 +463,7 @@ void vtkPenumbraRadianceReconstructor::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Mode: " << (this->Mode == LINEAR ? "LINEAR" : "CLOUGH_TOCHER") << "\n";
   os << indent << "DisplayTolerance: " << this->DisplayTolerance << "\n";
   os << indent << "CompactTolerance: " << this->CompactTolerance << "\n";
+  os << indent << "CompactIndirectTolerance: " << this->CompactIndirectTolerance << "\n";
   os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
   os << indent << "TargetEdgeLength: " << this->TargetEdgeLength << "\n";
   os << indent << "EnforceNonNegativity: " << (this->EnforceNonNegativity ? "On" : "Off") << "\n";

@@ -23,14 +23,16 @@
  *
  * Output (design contract): triangles covering every surface of the input,
  * each input triangle subdivided SubdivisionLevel times per edge (or as
- * finely as DisplayTolerance needs, or to TargetEdgeLength), with no
- * T-junction, cell data `SurfaceId`; point data `Radiance` (active
+ * finely as DisplayTolerance needs, or to TargetEdgeLength), then merged
+ * where the display allows (CompactTolerance), with no T-junction, cell
+ * data `SurfaceId`; point data `Radiance` (active
  * scalars; displaying it linearly interpolated is the reconstruction) and
  * `RadianceErrorEstimate` (3 components, same units: an estimate of the
  * reconstruction error at each point, from the sampling residuals and the
  * difference between the cubic and a wider cubic model); the input lines
  * carried through as polylines of output points with their
- * `DiscontinuityOrder` and `SourceId`.
+ * `DiscontinuityOrder` and `SourceId` (lines of one order and source that
+ * continue each other straight may be joined into one).
  *
  * @sa vtkPenumbraRadianceEvaluator vtkPenumbraDiscontinuityMesher
  */
@@ -79,15 +81,30 @@ public:
 
   ///@{
   /**
-   * Compact output: after the display resampling, output triangles are
-   * merged wherever the displayed radiance stays within this fraction of
-   * the surface's mean radiance of every output point it removes; the
-   * outline and the discontinuity lines keep their shape (see
-   * penumbra::ResampleOptions::CompactTolerance). Default 0 (the dense display), range
-   * [0, 1]; 1e-3 to 1e-2 are measured in Documentation/benchmarks.md.
+   * Compact output: after the display resampling, output points are removed
+   * wherever the displayed radiance stays within a tolerance of the dense
+   * display (at the removed points and the midpoints of the removed edges);
+   * the outline and the discontinuity lines keep their shape. The tolerance
+   * is the larger of this fraction of the surface's mean radiance and
+   * CompactIndirectTolerance's (see
+   * penumbra::ResampleOptions::CompactTolerance). Default 5e-4, range
+   * [0, 1]; 0 with CompactIndirectTolerance 0 gives the dense display.
    */
   vtkSetClampMacro(CompactTolerance, double, 0.0, 1.0);
   vtkGetMacro(CompactTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Compact output with interreflections: a tolerance of this fraction of
+   * the scene's mean indirect radiance (the input's field
+   * `MeanIndirectRadiance`, from vtkPenumbraProgressiveShooter; without it,
+   * none), per channel, about the interreflections' own error (see
+   * penumbra::ResampleOptions::CompactIndirectTolerance). Default 0.01,
+   * range [0, 1].
+   */
+  vtkSetClampMacro(CompactIndirectTolerance, double, 0.0, 1.0);
+  vtkGetMacro(CompactIndirectTolerance, double);
   ///@}
 
   ///@{
@@ -142,6 +159,7 @@ protected:
   int Mode;
   double DisplayTolerance;
   double CompactTolerance;
+  double CompactIndirectTolerance;
   int SubdivisionLevel;
   double TargetEdgeLength;
   bool EnforceNonNegativity;

@@ -55,6 +55,7 @@ vtkPenumbraSolver::vtkPenumbraSolver()
   this->MaximumIndirectSamples = static_cast<vtkIdType>(transport.MaximumIndirectSamples);
   this->DisplayTolerance = display.DisplayTolerance;
   this->CompactTolerance = display.CompactTolerance;
+  this->CompactIndirectTolerance = display.CompactIndirectTolerance;
   this->SubdivisionLevel = display.SubdivisionLevel;
   this->SecondaryShooterFraction = transport.SecondaryShooterFraction;
 }
@@ -177,6 +178,7 @@ int vtkPenumbraSolver::Execute(
     this->Indirect ? shooter->GetOutputPort() : evaluator->GetOutputPort());
   reconstructor->SetDisplayTolerance(this->DisplayTolerance);
   reconstructor->SetCompactTolerance(this->CompactTolerance);
+  reconstructor->SetCompactIndirectTolerance(this->CompactIndirectTolerance);
   reconstructor->SetSubdivisionLevel(this->SubdivisionLevel);
 
   // Shares of the progress bar: about the shares of the time on the Cornell box.
@@ -314,6 +316,7 @@ int vtkPenumbraSolver::Execute(
            << " SubdivisionLevel=" << this->SubdivisionLevel
            << " DisplayTolerance=" << this->DisplayTolerance
            << " CompactTolerance=" << this->CompactTolerance
+           << " CompactIndirectTolerance=" << this->CompactIndirectTolerance
            << " SecondaryShooterFraction=" << this->SecondaryShooterFraction;
   vtkNew<vtkStringArray> record;
   record->SetName("SolverSettings");
@@ -336,6 +339,7 @@ void vtkPenumbraSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
   os << indent << "DisplayTolerance: " << this->DisplayTolerance << "\n";
   os << indent << "CompactTolerance: " << this->CompactTolerance << "\n";
+  os << indent << "CompactIndirectTolerance: " << this->CompactIndirectTolerance << "\n";
   os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
   os << indent << "SecondaryShooterFraction: " << this->SecondaryShooterFraction << "\n";
 }

@@ -150,15 +150,25 @@ public:
 
   ///@{
   /**
-   * Compact output: output triangles are merged wherever the displayed
+   * Compact output: output points are removed wherever the displayed
    * radiance stays within this fraction of the surface's mean radiance of
-   * every output point they remove
-   * (vtkPenumbraRadianceReconstructor::CompactTolerance). Default 0
-   * (the dense display), range [0, 1]; 1e-3 to 1e-2 are measured in
-   * Documentation/benchmarks.md.
+   * the dense display, or within CompactIndirectTolerance's tolerance where
+   * that is larger (vtkPenumbraRadianceReconstructor::CompactTolerance).
+   * Default 5e-4, range [0, 1]; both 0 give the dense display.
    */
   vtkSetClampMacro(CompactTolerance, double, 0.0, 1.0);
   vtkGetMacro(CompactTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Compact output with interreflections: the displayed radiance may also
+   * move by this fraction of the scene's mean indirect radiance, per channel
+   * (vtkPenumbraRadianceReconstructor::CompactIndirectTolerance). Default
+   * 0.01, range [0, 1]; ignored when Indirect is off.
+   */
+  vtkSetClampMacro(CompactIndirectTolerance, double, 0.0, 1.0);
+  vtkGetMacro(CompactIndirectTolerance, double);
   ///@}
 
   ///@{
@@ -188,6 +198,7 @@ protected:
   double MinimumAngle;
   double DisplayTolerance;
   double CompactTolerance;
+  double CompactIndirectTolerance;
   int SubdivisionLevel;
   double SecondaryShooterFraction;
 

@@ -124,6 +124,11 @@ void Reconstruction::Internals::Validate() const
         ", must be -1, 0, 1 or 2");
     }
   }
+  if (!m.EdgeLabels.empty() && m.EdgeLabels.size() != m.EdgeOrders.size())
+  {
+    fail("EdgeLabels has " + std::to_string(m.EdgeLabels.size()) + " entries for " +
+      std::to_string(m.EdgeOrders.size()) + " constrained edges");
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -44,6 +44,10 @@ namespace penumbra
  *   is nevertheless shared by two triangles is treated like order 1 (C0).
  *   Edges that border no triangle are ignored; duplicates are allowed (the
  *   lowest order wins, -1 counting as lowest).
+ * - EdgeLabels: optional, one per constrained edge (e.g. the light or
+ *   occluder the line comes from). The compact display joins two edges
+ *   that continue each other in a straight line into one polyline only
+ *   when their orders and labels agree.
  */
 struct SampleMesh
 {
@@ -53,6 +57,7 @@ struct SampleMesh
   std::vector<int> Triangles;         ///< 3 point ids per triangle, CCW
   std::vector<int> ConstrainedEdges;  ///< 2 point ids per constrained edge
   std::vector<int> EdgeOrders;        ///< one order per constrained edge
+  std::vector<int> EdgeLabels;        ///< empty, or one label per constrained edge
 
   /// Number of points (Points.size() / 2).
   int GetNumberOfPoints() const { return static_cast<int>(this->Points.size() / 2); }
@@ -196,16 +201,43 @@ struct ResampleOptions
   /// Upper bound of the per-edge count with TargetEdgeLength or
   /// DisplayTolerance. [64], in [1, 1024]
   int MaximumSubdivisionLevel = 64;
-  /// Compact display: after the subdivision, output triangles are merged
-  /// (DecimateDisplay, penumbraDisplayDecimation.h) wherever the linear
-  /// display stays within this tolerance, relative to the receiver's mean
-  /// value (area-weighted, per channel), of every point it removes; the
-  /// outline and the constrained edges keep their shape. 0 = the dense
-  /// display. The display moves by about 0.7 times the tolerance (RMS): 2e-3
-  /// gives the 1,000-polygon box room 3.3 times fewer triangles at the same
-  /// accuracy, but doubles the error of direct-light floors that are
-  /// 0.05% accurate (Documentation/benchmarks.md, "Compact display"). [0], in [0, 1]
-  double CompactTolerance = 0.0;
+  /// Compact display: the output is merged (DecimateDisplay,
+  /// penumbraDisplayDecimation.h) wherever the linear display stays within a
+  /// tolerance of the dense display (the uniform SubdivisionLevel) at every
+  /// dense point, and of the display it is merged from at the midpoint of
+  /// every edge it removes; the outline and the constrained edges keep their
+  /// shape. With SubdivisionLevel 2 and CloughTocher, an input edge is only
+  /// halved where the interpolant at its midpoint is more than half the
+  /// tolerance off the chord, so nearly linear regions are never cut. Each
+  /// channel's tolerance is the larger of this fraction of the receiver's
+  /// mean value (area-weighted over the samples) and
+  /// CompactIndirectTolerance times IndirectRadiance. This part is for
+  /// values exact up to the reconstruction: on the direct-light floors
+  /// (0.05-0.13% RMS against exact values) 5e-4 gives 1.5 to 3.4 times fewer
+  /// triangles for at most 4% more error, the Cornell box 1.5 times fewer at
+  /// the same error (Documentation/benchmarks.md, "Compact display"). Both
+  /// parts 0 (or this one 0 and no IndirectRadiance): the dense display.
+  /// [5e-4], in [0, 1]
+  double CompactTolerance = 5e-4;
+  /// Compact display, interreflections: the display may also move by this
+  /// fraction of IndirectRadiance, per channel, though by no more than a
+  /// quarter of the value at the point (dark places, such as the ceiling
+  /// inside a light fixture, keep what light they have). Interreflections
+  /// computed on the coarse level are off by about that much everywhere, in
+  /// absolute terms rather than relative to each surface: against a
+  /// path-traced reference, furnished_room(1000)'s floors, desk tops, walls
+  /// and ceilings by 0.8-2.4% of the scene's mean indirect radiance (RMS),
+  /// its book faces alike (several % of their own radiance). 0.01 gives that
+  /// room 7.5 times fewer triangles for at most 6% more error at the
+  /// reference's probes. [0.01], in [0, 1]
+  double CompactIndirectTolerance = 0.01;
+  /// Per channel, the scene's area-mean indirect radiance (what the
+  /// interreflections add to the direct light), in the units of the values,
+  /// where the values' error scales with it: vtkPenumbraRadianceReconstructor
+  /// passes vtkPenumbraProgressiveShooter's MeanIndirectRadiance when the
+  /// shots ran on the coarse level (a large scene); empty otherwise. [],
+  /// NumberOfChannels entries >= 0
+  std::vector<double> IndirectRadiance;
   /// Fill ResampledMesh::ErrorEstimate (see ErrorEstimateOptions). [true]
   bool ComputeErrorEstimate = true;
 };

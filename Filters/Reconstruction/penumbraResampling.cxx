@@ -19,6 +19,8 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace penumbra
 {
@@ -30,7 +32,18 @@ using detail::Prev;
 namespace
 {
 
-void CheckResampleOptions(const ResampleOptions& options)
+/// The compact base halves an edge where the interpolant at its midpoint is
+/// more than this fraction of the compact tolerance off the chord; the
+/// merging then has the rest of the tolerance.
+constexpr double CompactEdgeFraction = 0.5;
+
+/// The indirect part of the compact tolerance lets a point move by at most
+/// this fraction of its own value: in furnished_room(1000) the ceiling inside
+/// the lights' outlines and the gaps behind the bookcases, lit by 0.2-0.4% of
+/// the surface around them, otherwise showed 10-25% more light.
+constexpr double CompactLocalFraction = 0.25;
+
+void CheckResampleOptions(const ResampleOptions& options, int channels)
 {
   if (options.SubdivisionLevel < 1 || options.SubdivisionLevel > 1024)
   {
@@ -56,6 +69,91 @@ void CheckResampleOptions(const ResampleOptions& options)
     throw InputError("Reconstruction: CompactTolerance is " +
       std::to_string(options.CompactTolerance) + ", must be in [0, 1]");
   }
+  if (!(options.CompactIndirectTolerance >= 0.0 && options.CompactIndirectTolerance <= 1.0))
+  {
+    throw InputError("Reconstruction: CompactIndirectTolerance is " +
+      std::to_string(options.CompactIndirectTolerance) + ", must be in [0, 1]");
+  }
+  if (!options.IndirectRadiance.empty() &&
+    options.IndirectRadiance.size() != static_cast<std::size_t>(channels))
+  {
+    throw InputError("Reconstruction: IndirectRadiance has " +
+      std::to_string(options.IndirectRadiance.size()) + " entries for " +
+      std::to_string(channels) + " channels");
+  }
+  for (const double value : options.IndirectRadiance)
+  {
+    if (!(value >= 0.0) || !std::isfinite(value))
+    {
+      throw InputError("Reconstruction: IndirectRadiance must be finite and >= 0");
+    }
+  }
+}
+
+/// The compact display's tolerance per channel (value units): the larger of
+/// CompactTolerance times the receiver's area-mean |value| and
+/// CompactIndirectTolerance times IndirectRadiance; empty when both are 0
+/// (the dense display).
+std::vector<double> CompactTolerances(const ResampleOptions& options, const SampleMesh& mesh)
+{
+  const int nc = mesh.NumberOfChannels;
+  std::vector<double> mean(static_cast<std::size_t>(nc), 0.0);
+  double area = 0.0;
+  for (int t = 0; t < mesh.GetNumberOfTriangles(); ++t)
+  {
+    const int* tri = mesh.Triangles.data() + 3 * t;
+    const double* a = mesh.Points.data() + 2 * tri[0];
+    const double* b = mesh.Points.data() + 2 * tri[1];
+    const double* d = mesh.Points.data() + 2 * tri[2];
+    const double twice = std::abs((b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]));
+    area += twice;
+    for (int c = 0; c < nc; ++c)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        mean[static_cast<std::size_t>(c)] +=
+          twice * std::abs(mesh.Values[static_cast<std::size_t>(tri[k]) * nc + c]) / 3.0;
+      }
+    }
+  }
+  std::vector<double> tolerances(static_cast<std::size_t>(nc), 0.0);
+  bool any = false;
+  for (int c = 0; c < nc; ++c)
+  {
+    double t = area > 0.0 ? options.CompactTolerance * mean[static_cast<std::size_t>(c)] / area : 0.0;
+    if (!options.IndirectRadiance.empty())
+    {
+      t = std::max(t,
+        options.CompactIndirectTolerance * options.IndirectRadiance[static_cast<std::size_t>(c)]);
+    }
+    // A channel that is zero throughout (a black one) stays exact.
+    tolerances[static_cast<std::size_t>(c)] = std::max(t, 1e-300);
+    any = any || t > 0.0;
+  }
+  return any ? tolerances : std::vector<double>();
+}
+
+/// A group per (order, label) pair of the constrained edges (the output's
+/// lines), so that only lines of one kind are joined.
+std::vector<int> LineGroups(const SampleMesh& mesh)
+{
+  std::vector<std::pair<int, int>> kinds;
+  kinds.reserve(mesh.EdgeOrders.size());
+  for (std::size_t e = 0; e < mesh.EdgeOrders.size(); ++e)
+  {
+    kinds.emplace_back(mesh.EdgeOrders[e], mesh.EdgeLabels.empty() ? 0 : mesh.EdgeLabels[e]);
+  }
+  std::vector<std::pair<int, int>> sorted = kinds;
+  std::sort(sorted.begin(), sorted.end());
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  std::vector<int> groups;
+  groups.reserve(kinds.size());
+  for (const auto& kind : kinds)
+  {
+    groups.push_back(
+      static_cast<int>(std::lower_bound(sorted.begin(), sorted.end(), kind) - sorted.begin()));
+  }
+  return groups;
 }
 
 } // namespace
@@ -84,6 +182,14 @@ public:
   /// estimating: the probe bounds and model scales of CalibrateWithProbes,
   /// or the per-triangle bounds with PerTriangle.
   std::vector<double> ProbeBounds, ModelScale, TriangleBounds;
+  /// Per channel, the compact display's tolerance (value units), set by the
+  /// caller before Run; empty: the dense display.
+  std::vector<double> CompactTolerances;
+  /// After Run with the compact base: the midpoints of the edges left
+  /// whole, as test points for the merging ((u, v), NC values of the
+  /// interpolant, an output triangle holding each).
+  std::vector<double> LeftOutPoints, LeftOutValues;
+  std::vector<int> LeftOutTriangles;
 
   void Run();
 
@@ -97,6 +203,9 @@ private:
   };
 
   void CountSegments();
+  void ChooseCompactEdges();
+  void SubdivideGreen(const int n[3]);
+  void KeepLeftOut(int firstTriangle);
   void ChooseAdaptiveLevels();
   void CountEdgesFromLevels();
   double Deviation(int t, int n);
@@ -128,6 +237,11 @@ private:
   // (first id of each edge).
   std::vector<int> Segments;
   std::vector<int> Needed;
+  // Compact base: the interpolant at each edge's midpoint (NC per edge), and
+  // whether an edge left whole has its test point yet.
+  bool Green = false;
+  std::vector<double> MidValues;
+  std::vector<char> LeftOutDone;
   std::vector<int> PointId;
   std::vector<int> EdgeFirst;
   std::vector<Net> Nets;
@@ -181,9 +295,15 @@ void Reconstruction::Internals::Resampler::CountSegments()
   this->Segments.assign(ne, this->Options.SubdivisionLevel);
   this->Needed.clear();
   this->InverseTolerance.clear();
+  this->Green = false;
   if (this->Options.TargetEdgeLength <= 0.0 && this->Options.DisplayTolerance > 0.0)
   {
     this->ChooseAdaptiveLevels();
+  }
+  else if (this->Options.TargetEdgeLength <= 0.0 && this->Options.SubdivisionLevel == 2 &&
+    this->Cubic && !this->CompactTolerances.empty())
+  {
+    this->ChooseCompactEdges();
   }
   else if (this->Options.TargetEdgeLength > 0.0)
   {
@@ -197,6 +317,63 @@ void Reconstruction::Internals::Resampler::CountSegments()
         std::min(static_cast<double>(this->Options.MaximumSubdivisionLevel), std::max(1.0, n)));
     }
   }
+}
+
+//------------------------------------------------------------------------------
+// The compact display's base: level 2 (the dense display) only along the
+// edges where the interpolant's midpoint is more than CompactEdgeFraction of
+// the tolerance off the chord; the others stay whole, and their midpoints
+// become test points of the merging, so that it still answers to the dense
+// display there. Level 2 has no point inside a triangle, so a triangle whose
+// edges all stay whole is within that fraction of its level-2 display
+// everywhere.
+void Reconstruction::Internals::Resampler::ChooseCompactEdges()
+{
+  const Internals& in = this->In;
+  const int nt = in.Mesh.GetNumberOfTriangles();
+  const int ne = static_cast<int>(in.EdgeKinds.size());
+  const int nc = this->NC;
+  this->MidValues.assign(static_cast<std::size_t>(ne) * nc, 0.0);
+  for (int t = 0; t < nt; ++t)
+  {
+    const int* tri = in.T(t);
+    bool computed = false;
+    for (int k = 0; k < 3; ++k)
+    {
+      const int e = in.TriangleEdge[3 * t + k];
+      const int side = in.EdgeSides[2 * e] >= 0 ? in.EdgeSides[2 * e] : in.EdgeSides[2 * e + 1];
+      if (side != 3 * t + k)
+      {
+        continue; // measured from its other side
+      }
+      if (!computed)
+      {
+        for (int c = 0; c < nc; ++c)
+        {
+          in.ComputeNet(t, c, this->Nets[c]);
+        }
+        computed = true;
+      }
+      double b[3];
+      b[k] = 0.0;
+      b[Next(k)] = 0.5;
+      b[Prev(k)] = 0.5;
+      in.EvaluateWithNets(t, this->Nets.data(), b, this->Value.data(), nullptr);
+      double worst = 0.0;
+      for (int c = 0; c < nc; ++c)
+      {
+        const double chord = 0.5 * (in.Value(tri[Next(k)], c) + in.Value(tri[Prev(k)], c));
+        this->MidValues[static_cast<std::size_t>(e) * nc + c] = this->Value[c];
+        worst = std::max(worst, std::abs(this->Value[c] - chord) / this->CompactTolerances[c]);
+      }
+      this->Segments[e] = worst > CompactEdgeFraction ? 2 : 1;
+    }
+  }
+  this->Green = true;
+  this->LeftOutDone.assign(static_cast<std::size_t>(ne), 0);
+  this->LeftOutPoints.clear();
+  this->LeftOutValues.clear();
+  this->LeftOutTriangles.clear();
 }
 
 //------------------------------------------------------------------------------
@@ -451,6 +628,10 @@ int Reconstruction::Internals::Resampler::InnerLevel(int t, const int n[3], bool
   {
     return n[0];
   }
+  if (this->Green)
+  {
+    return 2; // SubdivideGreen
+  }
   const int finest = std::max(n[0], std::max(n[1], n[2]));
   return std::max(3, this->Needed.empty() ? finest : this->Needed[t]);
 }
@@ -480,6 +661,10 @@ void Reconstruction::Internals::Resampler::Reserve()
     {
       points += (s - 1) * (s - 2) / 2 + 3;
       triangles += s * s;
+    }
+    else if (this->Green)
+    {
+      triangles += static_cast<std::size_t>(n[0] + n[1] + n[2] - 2);
     }
     else
     {
@@ -638,13 +823,22 @@ void Reconstruction::Internals::Resampler::SubdivideTriangle(int t)
   this->T = t;
   this->S = s;
   this->Lattice.assign(static_cast<std::size_t>((s + 1) * (s + 2) / 2), -1);
+  const int firstTriangle = this->Output.GetNumberOfTriangles();
   if (regular)
   {
     this->SubdivideRegular();
   }
+  else if (this->Green)
+  {
+    this->SubdivideGreen(n);
+  }
   else
   {
     this->SubdivideIrregular(n);
+  }
+  if (this->Green)
+  {
+    this->KeepLeftOut(firstTriangle);
   }
   if (this->Estimate)
   {
@@ -679,6 +873,99 @@ void Reconstruction::Internals::Resampler::SubdivideRegular()
           this->LatticePoint(a, b + 1));
       }
     }
+  }
+}
+
+//------------------------------------------------------------------------------
+// A triangle of the compact base with one or two edges halved (n[k] 1 or
+// 2): two triangles from the corner opposite a halved edge, or a corner
+// triangle between two halved edges and the rest cut along its shorter
+// diagonal. Corners and midpoints are those of the regular level 2, so the
+// pieces match their neighbours.
+void Reconstruction::Internals::Resampler::SubdivideGreen(const int n[3])
+{
+  const int t = this->T;
+  int corner[3], middle[3];
+  for (int j = 0; j < 3; ++j)
+  {
+    corner[j] = this->EdgePoint(t, Prev(j), 0, n[Prev(j)]); // edge Prev(j) starts at corner j
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    middle[k] = n[k] == 2 ? this->EdgePoint(t, k, 1, 2) : -1;
+  }
+  const int halved = (n[0] == 2 ? 1 : 0) + (n[1] == 2 ? 1 : 0) + (n[2] == 2 ? 1 : 0);
+  if (halved == 1)
+  {
+    const int k = n[0] == 2 ? 0 : (n[1] == 2 ? 1 : 2);
+    this->AddTriangle(corner[k], corner[Next(k)], middle[k]);
+    this->AddTriangle(corner[k], middle[k], corner[Prev(k)]);
+    return;
+  }
+  // Two halved edges, both at corner k (edge k stays whole).
+  const int k = n[0] == 1 ? 0 : (n[1] == 1 ? 1 : 2);
+  const int a = middle[Prev(k)]; // on edge (k, k+1)
+  const int b = middle[Next(k)]; // on edge (k+2, k)
+  this->AddTriangle(corner[k], a, b);
+  const double* pa = &this->Output.Points[2 * static_cast<std::size_t>(a)];
+  const double* pb = &this->Output.Points[2 * static_cast<std::size_t>(b)];
+  const double* pn = &this->Output.Points[2 * static_cast<std::size_t>(corner[Next(k)])];
+  const double* pp = &this->Output.Points[2 * static_cast<std::size_t>(corner[Prev(k)])];
+  const double first = std::hypot(pp[0] - pa[0], pp[1] - pa[1]);
+  const double second = std::hypot(pn[0] - pb[0], pn[1] - pb[1]);
+  if (first <= second)
+  {
+    this->AddTriangle(a, corner[Next(k)], corner[Prev(k)]);
+    this->AddTriangle(a, corner[Prev(k)], b);
+  }
+  else
+  {
+    this->AddTriangle(a, corner[Next(k)], b);
+    this->AddTriangle(corner[Next(k)], corner[Prev(k)], b);
+  }
+}
+
+//------------------------------------------------------------------------------
+// The midpoints of the current triangle's edges left whole (each once),
+// with the interpolant's value there and the output triangle holding them.
+void Reconstruction::Internals::Resampler::KeepLeftOut(int firstTriangle)
+{
+  const Internals& in = this->In;
+  const int t = this->T;
+  const int* tri = in.T(t);
+  const int nc = this->NC;
+  const ResampledMesh& out = this->Output;
+  for (int k = 0; k < 3; ++k)
+  {
+    const int e = in.TriangleEdge[3 * t + k];
+    if (this->Segments[e] != 1 || this->LeftOutDone[e])
+    {
+      continue;
+    }
+    this->LeftOutDone[e] = 1;
+    const int p = this->PointId[tri[Next(k)]], q = this->PointId[tri[Prev(k)]];
+    int holder = -1;
+    for (int o = firstTriangle; o < out.GetNumberOfTriangles() && holder < 0; ++o)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        const int x = out.Triangles[3 * o + i], y = out.Triangles[3 * o + (i + 1) % 3];
+        if ((x == p && y == q) || (x == q && y == p))
+        {
+          holder = o;
+        }
+      }
+    }
+    if (holder < 0)
+    {
+      continue;
+    }
+    this->LeftOutPoints.push_back(0.5 * (out.Points[2 * p] + out.Points[2 * q]));
+    this->LeftOutPoints.push_back(0.5 * (out.Points[2 * p + 1] + out.Points[2 * q + 1]));
+    this->LeftOutValues.insert(this->LeftOutValues.end(),
+      this->MidValues.begin() + static_cast<std::ptrdiff_t>(e) * nc,
+      this->MidValues.begin() + static_cast<std::ptrdiff_t>(e + 1) * nc);
+    this->LeftOutTriangles.push_back(holder);
   }
 }
 
@@ -833,7 +1120,7 @@ void Reconstruction::Internals::Resampler::TraceLines()
 void Reconstruction::Resample(const ResampleOptions& options, ResampledMesh& output,
   const ErrorProbes* probes, const ErrorEstimateOptions& errorOptions) const
 {
-  CheckResampleOptions(options);
+  CheckResampleOptions(options, this->Internal->NC);
   Internals::Resampler resampler(*this->Internal, options, errorOptions, output);
   if (options.ComputeErrorEstimate)
   {
@@ -848,8 +1135,21 @@ void Reconstruction::Resample(const ResampleOptions& options, ResampledMesh& out
         probes, errorOptions, resampler.ProbeBounds, resampler.ModelScale);
     }
   }
+  resampler.CompactTolerances = CompactTolerances(options, this->Internal->Mesh);
   resampler.Run();
-  DecimateDisplay(output, options.CompactTolerance);
+  if (resampler.CompactTolerances.empty())
+  {
+    return; // the dense display
+  }
+  DecimationOptions compact;
+  compact.AbsoluteTolerance = resampler.CompactTolerances;
+  compact.TestEdgeMidpoints = true;
+  compact.LocalFraction = CompactLocalFraction;
+  compact.LineGroups = LineGroups(this->Internal->Mesh);
+  compact.TestPoints = std::move(resampler.LeftOutPoints);
+  compact.TestValues = std::move(resampler.LeftOutValues);
+  compact.TestTriangles = std::move(resampler.LeftOutTriangles);
+  DecimateDisplay(output, compact);
 }
 
 } // namespace penumbra

@@ -68,22 +68,32 @@ def test_quality_presets_and_tolerance_reach_the_solver(tmp_path):
 
 
 def test_compact_reaches_the_solver_and_shrinks_the_output(tmp_path):
-    """--compact [T]: the solve records CompactTolerance (2e-3 when given no value),
-    the same scene comes out in fewer triangles, and a tolerance outside [0, 1] is a
-    usage error."""
+    """The default output is compact; --compact [T] sets CompactTolerance (2e-3 when
+    given no value) and merges more; --dense and --compact 0 give the dense display (every
+    sample triangle cut in 4, both tolerances 0); a tolerance outside [0, 1] and --dense
+    with --compact are usage errors."""
     from penumbra.info import read_result
 
     triangles = {}
-    for name, extra in (("dense", ()), ("compact", ("--compact",))):
+    for name, extra, recorded in (
+            ("dense", ("--dense",), "CompactTolerance=0 CompactIndirectTolerance=0 "),
+            ("zero", ("--compact", "0"), "CompactTolerance=0 CompactIndirectTolerance=0 "),
+            ("default", (), "CompactTolerance=0.0005 CompactIndirectTolerance=0.01 "),
+            ("compact", ("--compact",), "CompactTolerance=0.002 ")):
         out = tmp_path / ("%s.vtp" % name)
         result = run_penumbra("solve", "occluder", "-o", out, "--direct-only", "-q",
                               "--threads", "2", *extra)
         assert result.returncode == 0, result.stderr
         triangles[name] = read_result(str(out)).GetNumberOfPolys()
-        assert ("CompactTolerance=%s" % ("0.002" if extra else "0")) in _info(out)
-    assert triangles["compact"] < 0.5 * triangles["dense"], triangles
+        assert recorded in _info(out), _info(out)
+    assert triangles["zero"] == triangles["dense"], triangles
+    assert triangles["default"] < 0.8 * triangles["dense"], triangles
+    assert triangles["compact"] < 0.5 * triangles["default"], triangles
     result = run_penumbra("solve", "occluder", "-o", tmp_path / "bad.vtp", "--compact", "2")
     assert result.returncode == 2 and "compact" in result.stderr, result.stderr
+    result = run_penumbra("solve", "occluder", "-o", tmp_path / "bad.vtp", "--compact",
+                          "1e-3", "--dense")
+    assert result.returncode == 2 and "--dense" in result.stderr, result.stderr
 
 
 def test_info_reports_the_record_of_the_solve(tmp_path):

@@ -136,14 +136,38 @@ def _boundary_length(out):
     return result
 
 
+def _line_lengths(out):
+    """Total length of the lines per (SurfaceId, DiscontinuityOrder, SourceId)."""
+    xyz = vtk_to_numpy(out.GetPoints().GetData()).astype(float)
+    cells = out.GetCellData()
+    lengths = {}
+    connectivity = vtk_to_numpy(out.GetLines().GetData())
+    k, line = 0, 0
+    while k < len(connectivity):
+        ids = connectivity[k + 1:k + 1 + connectivity[k]]
+        key = tuple(int(cells.GetArray(name).GetValue(line))
+                    for name in ("SurfaceId", "DiscontinuityOrder", "SourceId"))
+        lengths[key] = lengths.get(key, 0.0) + np.linalg.norm(np.diff(xyz[ids], axis=0),
+                                                              axis=1).sum()
+        k += connectivity[k] + 1
+        line += 1
+    return lengths
+
+
 def _check_watertight_with_contract(out, samples, outline):
     """`out` has every surface's `outline` (total length of its edges used by one
     triangle, as _boundary_length gives it) and no edge used by three triangles,
-    the boundary lines of `samples`, and the point arrays of the contract."""
+    the boundary lines of `samples` (as many or fewer: lines of one kind that
+    continue each other are joined, their total length kept), and the point
+    arrays of the contract."""
     for surface, (length, overused) in _boundary_length(out).items():
         assert overused == 0
         assert length == pytest.approx(outline[surface][0], rel=1e-9)
-    assert out.GetNumberOfLines() == samples.GetNumberOfLines()
+    assert out.GetNumberOfLines() <= samples.GetNumberOfLines()
+    lengths, expected = _line_lengths(out), _line_lengths(samples)
+    assert lengths.keys() == expected.keys()
+    for key, length in expected.items():
+        assert lengths[key] == pytest.approx(length, rel=1e-9), key
     for name in ("Radiance", "Irradiance", "RadianceErrorEstimate"):
         values = vtk_to_numpy(out.GetPointData().GetArray(name))
         assert values.shape == (out.GetNumberOfPoints(), 3) and values.min() >= 0
@@ -292,16 +316,17 @@ def test_compact_display_is_watertight_within_tolerance_and_as_accurate():
     """CompactTolerance: the display merged from the level-2 one keeps every
     surface's outline (no edge used by three triangles) and every boundary
     line, carries the arrays of the contract, stays within the tolerance of
-    the level-2 display at the level-2 vertices (merged or kept), merges more at
-    a larger tolerance, and at 5e-4 is as accurate as the level-2 display
-    against exact values at random floor points (RMS within 10%)."""
+    the level-2 display at the level-2 vertices (merged, kept or never
+    created), merges more at a larger tolerance, and at 5e-4 (the default) is
+    as accurate as the level-2 display against exact values at random floor
+    points (RMS within 10%)."""
     from penumbra.pipeline import point_samples
 
     samples, _, source = direct_pipeline("occluder", level=1)
     level2, _, _ = direct_pipeline("occluder", level=2)
     outline = _boundary_length(samples)
-    # The floor's mean as the merging takes it: the level-2 display's area mean.
-    mean = _floor_mean(level2)
+    # The floor's mean as the merging takes it: the samples' area mean.
+    mean = _floor_mean(samples)
     # Exact values at random floor points.
     triangles, surfaces = _triangles(level2)
     corners = vtk_to_numpy(level2.GetPoints().GetData()).astype(float)[
@@ -328,6 +353,58 @@ def test_compact_display_is_watertight_within_tolerance_and_as_accurate():
         if tolerance == 5e-4:
             assert rms(out) <= 1.1 * rms(level2)
 
+
+
+
+def test_compact_display_on_the_coarse_level_stays_within_its_tolerance():
+    """Interreflections shot on the coarse level (the Cornell box on 4,000
+    points): the shooter reports the scene's mean indirect radiance, and the
+    display may then also move by CompactIndirectTolerance times it, per
+    channel. The default display stays within the larger of that and
+    CompactTolerance times the floor's mean of the dense display at every
+    floor vertex of the dense one, in under half its triangles and fewer than
+    without the indirect part; both parts 0 give the dense display (4
+    triangles per sample triangle)."""
+    from vtkmodules.vtkCommonExecutionModel import vtkTrivialProducer
+    from penumbra.pipeline import build_pipeline
+
+    source = vtkTrivialProducer()
+    source.SetOutput(penumbra.load_scene("cornell"))
+    stages = build_pipeline(source.GetOutputPort())
+    stages["shooter"].SetMaximumIndirectSamples(4000)
+    shot = penumbra.run_filter(stages["shooter"])
+    fields = shot.GetFieldData()
+    assert fields.GetArray("IndirectSpacing").GetValue(0) > 0.0
+    indirect = np.array([fields.GetArray("MeanIndirectRadiance").GetComponent(0, c)
+                         for c in range(3)])
+    assert (indirect > 0.0).all()
+    sample_triangles = shot.GetNumberOfPolys()
+
+    def display(**settings):
+        reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
+        reconstructor.SetInputConnection(stages["shooter"].GetOutputPort())
+        for name, value in settings.items():
+            getattr(reconstructor, "Set" + name)(value)
+        result = vtkPolyData()
+        result.ShallowCopy(penumbra.run_filter(reconstructor))
+        return result
+
+    dense = display(CompactTolerance=0.0, CompactIndirectTolerance=0.0)
+    assert dense.GetNumberOfPolys() == 4 * sample_triangles
+    level1 = display(SubdivisionLevel=1, CompactTolerance=0.0, CompactIndirectTolerance=0.0)
+    out = display()
+    relative_only = display(CompactIndirectTolerance=0.0)
+    defaults = penumbra.vtkPenumbraRadianceReconstructor()
+    tolerance = np.maximum(defaults.GetCompactTolerance() * _floor_mean(level1),
+                           defaults.GetCompactIndirectTolerance() * indirect)
+    deviation = _vertex_deviation(out, dense, tolerance)
+    print("coarse-level Cornell box: %d dense, %d compact (%d without the indirect part), "
+          "largest deviation %.3f of the tolerance" % (
+              dense.GetNumberOfPolys(), out.GetNumberOfPolys(), relative_only.GetNumberOfPolys(),
+              deviation))
+    assert deviation <= 1.0 + 1e-6
+    assert out.GetNumberOfPolys() < 0.5 * dense.GetNumberOfPolys()
+    assert out.GetNumberOfPolys() < relative_only.GetNumberOfPolys()
 
 
 def reconstruct_samples(name):

@@ -1259,6 +1259,19 @@ PENUMBRA_TEST(TestResample)
 }
 
 //------------------------------------------------------------------------------
+// Barycentric coordinates l of (u, v) in output triangle o.
+void OutputBarycentric(const ResampledMesh& out, int o, double u, double v, double l[3])
+{
+  const int* tri = &out.Triangles[3 * o];
+  const double* p0 = &out.Points[2 * tri[0]];
+  const double* p1 = &out.Points[2 * tri[1]];
+  const double* p2 = &out.Points[2 * tri[2]];
+  const double area = (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]);
+  l[1] = ((p2[0] - p0[0]) * (p0[1] - v) - (p2[1] - p0[1]) * (p0[0] - u)) / area;
+  l[2] = ((p0[0] - u) * (p1[1] - p0[1]) - (p0[1] - v) * (p1[0] - p0[0])) / area;
+  l[0] = 1.0 - l[1] - l[2];
+}
+
 // Per-point `values` (channel c of NumberOfChannels), linear over the output
 // triangle of [begin, end) that holds (u, v).
 double LinearOnOutput(const ResampledMesh& out, const std::vector<double>& values, int begin,
@@ -1269,13 +1282,9 @@ double LinearOnOutput(const ResampledMesh& out, const std::vector<double>& value
   for (int o = begin; o < end; ++o)
   {
     const int* tri = &out.Triangles[3 * o];
-    const double* p0 = &out.Points[2 * tri[0]];
-    const double* p1 = &out.Points[2 * tri[1]];
-    const double* p2 = &out.Points[2 * tri[2]];
-    const double area = (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]);
-    const double l1 = ((p2[0] - p0[0]) * (p0[1] - v) - (p2[1] - p0[1]) * (p0[0] - u)) / area;
-    const double l2 = ((p0[0] - u) * (p1[1] - p0[1]) - (p0[1] - v) * (p1[0] - p0[0])) / area;
-    const double l0 = 1.0 - l1 - l2;
+    double l[3];
+    OutputBarycentric(out, o, u, v, l);
+    const double l0 = l[0], l1 = l[1], l2 = l[2];
     const double lowest = std::min(l0, std::min(l1, l2));
     if (lowest > best)
     {
@@ -1789,11 +1798,184 @@ PENUMBRA_TEST(TestNearCoincidentPoints)
 }
 
 //------------------------------------------------------------------------------
-// CompactTolerance: the merged display is as watertight as the dense one,
-// within the tolerance of every dense output point it removed (checked by
-// locating each one in the merged mesh, against a mean computed here), keeps
-// the constrained edges' polylines on their lines, and merges more at a
-// larger tolerance.
+// The merged display at (u, v): of the triangles holding the point (both
+// sides of a jump on it), the one nearest `expected`; per channel |shown -
+// expected| divided by tolerance[j]. 1e300 when no triangle holds it.
+double CompactError(const ResampledMesh& compact, double u, double v, const double* expected,
+  const std::vector<double>& tolerance)
+{
+  const int nc = compact.NumberOfChannels;
+  double best = 1e300;
+  for (int t = 0; t < compact.GetNumberOfTriangles(); ++t)
+  {
+    const int* tri = &compact.Triangles[3 * t];
+    double l[3];
+    OutputBarycentric(compact, t, u, v, l);
+    if (std::min(l[0], std::min(l[1], l[2])) < -1e-9)
+    {
+      continue;
+    }
+    double error = 0.0;
+    for (int j = 0; j < nc; ++j)
+    {
+      const double shown = l[0] * compact.Values[tri[0] * nc + j] +
+        l[1] * compact.Values[tri[1] * nc + j] + l[2] * compact.Values[tri[2] * nc + j];
+      error = std::max(error, std::abs(shown - expected[j]) / tolerance[j]);
+    }
+    best = std::min(best, error);
+  }
+  return best;
+}
+
+// The largest CompactError over the points of `dense` and, with `midpoints`,
+// over the midpoints of its edges (the dense display there: the mean of the
+// ends, which lie on one side of any jump).
+double LargestCompactError(const ResampledMesh& dense, const ResampledMesh& compact,
+  const std::vector<double>& tolerance, bool midpoints)
+{
+  const int nc = dense.NumberOfChannels;
+  double worst = 0.0;
+  for (int p = 0; p < dense.GetNumberOfPoints(); ++p)
+  {
+    worst = std::max(worst,
+      CompactError(compact, dense.Points[2 * p], dense.Points[2 * p + 1], &dense.Values[p * nc],
+        tolerance));
+  }
+  for (int t = 0; midpoints && t < dense.GetNumberOfTriangles(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int a = dense.Triangles[3 * t + k], b = dense.Triangles[3 * t + (k + 1) % 3];
+      std::vector<double> mid(nc);
+      for (int j = 0; j < nc; ++j)
+      {
+        mid[j] = 0.5 * (dense.Values[a * nc + j] + dense.Values[b * nc + j]);
+      }
+      worst = std::max(worst,
+        CompactError(compact, 0.5 * (dense.Points[2 * a] + dense.Points[2 * b]),
+          0.5 * (dense.Points[2 * a + 1] + dense.Points[2 * b + 1]), mid.data(), tolerance));
+    }
+  }
+  return worst;
+}
+
+// The receiver's area-mean |value| per channel over its sample triangles.
+std::vector<double> SampleMean(const SampleMesh& mesh)
+{
+  const int nc = mesh.NumberOfChannels;
+  std::vector<double> mean(nc, 0.0);
+  double area = 0.0;
+  for (int t = 0; t < mesh.GetNumberOfTriangles(); ++t)
+  {
+    const int* tri = &mesh.Triangles[3 * t];
+    const double* a = &mesh.Points[2 * tri[0]];
+    const double* b = &mesh.Points[2 * tri[1]];
+    const double* c = &mesh.Points[2 * tri[2]];
+    const double w = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    area += w;
+    for (int j = 0; j < nc; ++j)
+    {
+      mean[j] += w *
+        (std::abs(mesh.Values[tri[0] * nc + j]) + std::abs(mesh.Values[tri[1] * nc + j]) +
+          std::abs(mesh.Values[tri[2] * nc + j])) / 3.0;
+    }
+  }
+  for (double& m : mean)
+  {
+    m /= area;
+  }
+  return mean;
+}
+
+// Whether (u, v) lies on the segment between dense points a and b.
+bool OnSegment(const ResampledMesh& dense, int a, int b, double u, double v)
+{
+  const double* p = &dense.Points[2 * a];
+  const double* q = &dense.Points[2 * b];
+  const double eu = q[0] - p[0], ev = q[1] - p[1];
+  const double len2 = eu * eu + ev * ev;
+  const double s = ((u - p[0]) * eu + (v - p[1]) * ev) / len2;
+  const double d = std::abs((u - p[0]) * ev - (v - p[1]) * eu) / std::sqrt(len2);
+  return s >= -1e-12 && s <= 1.0 + 1e-12 && d < 1e-12;
+}
+
+// The compact display's lines: each constrained edge's polyline is empty
+// (joined into another) or runs from an end of a dense line to an end of a
+// dense line of the same order, every point on a dense line of that order;
+// and no two kept polylines share a segment.
+bool CheckCompactLines(const SampleMesh& mesh, const ResampledMesh& dense,
+  const ResampledMesh& compact, int& joined)
+{
+  bool ok = compact.LineOffsets.size() == dense.LineOffsets.size();
+  joined = 0;
+  const std::size_t lines = dense.LineOffsets.size() - 1;
+  const auto onLineOfOrder = [&](int order, double u, double v, bool end) {
+    for (std::size_t f = 0; f < lines; ++f)
+    {
+      const int df = dense.LineOffsets[f], dl = dense.LineOffsets[f + 1];
+      if (dl - df < 2 || mesh.EdgeOrders[f] != order)
+      {
+        continue;
+      }
+      for (int i = df; i + 1 < dl; ++i)
+      {
+        const int a = dense.LinePoints[i], b = dense.LinePoints[i + 1];
+        if (end)
+        {
+          const int x = i == df ? a : (i + 2 == dl ? b : -1);
+          const int y = i + 2 == dl ? b : -1;
+          for (const int z : { x, y })
+          {
+            if (z >= 0 && dense.Points[2 * z] == u && dense.Points[2 * z + 1] == v)
+            {
+              return true;
+            }
+          }
+        }
+        else if (OnSegment(dense, a, b, u, v))
+        {
+          return true;
+        }
+      }
+    }
+    return false;
+  };
+  std::map<std::pair<int, int>, int> segments;
+  for (std::size_t e = 0; ok && e < lines; ++e)
+  {
+    const int cf = compact.LineOffsets[e], cl = compact.LineOffsets[e + 1];
+    const int df = dense.LineOffsets[e], dl = dense.LineOffsets[e + 1];
+    if (cl == cf)
+    {
+      joined += dl - df >= 2 ? 1 : 0;
+      continue;
+    }
+    ok = cl - cf >= 2;
+    for (int k = cf; ok && k < cl; ++k)
+    {
+      const int q = compact.LinePoints[k];
+      const bool end = k == cf || k == cl - 1;
+      ok = onLineOfOrder(mesh.EdgeOrders[e], compact.Points[2 * q], compact.Points[2 * q + 1], end);
+      if (k + 1 < cl)
+      {
+        const int r = compact.LinePoints[k + 1];
+        ok = ok && ++segments[{ std::min(q, r), std::max(q, r) }] == 1;
+      }
+    }
+  }
+  return ok;
+}
+
+// Compact display. From a uniform display (level 4): as watertight as the
+// dense one, within the tolerance (relative to the samples' mean) of every
+// dense point it removed and of the dense display at the midpoint of every
+// dense edge, the constrained edges' polylines on their lines (joined where
+// they continue each other), fewer triangles at a larger tolerance. From
+// the default level 2 (edges left whole where the interpolant is nearly
+// linear along them): within the tolerance of the level-2 display at all its
+// points, those never created included. The indirect part gives each
+// channel its own absolute tolerance; with both parts 0 (or no indirect
+// radiance) the display is the dense one exactly.
 PENUMBRA_TEST(TestCompactDisplay)
 {
   std::printf("-- compact display\n");
@@ -1815,38 +1997,14 @@ PENUMBRA_TEST(TestCompactDisplay)
   const SampleMesh mesh = MakeGrid(spec, slope, bump);
   Reconstruction r;
   r.Build(mesh);
+  const int nc = mesh.NumberOfChannels;
+  const std::vector<double> mean = SampleMean(mesh);
   ResampleOptions ro;
   ro.CompactTolerance = 0.0; // the uniform display itself
   ro.SubdivisionLevel = 4;
   ResampledMesh dense;
   r.Resample(ro, dense);
-  const int nc = dense.NumberOfChannels;
-  // The dense display's area mean of |value| per channel.
-  std::vector<double> mean(nc, 0.0);
-  double area = 0.0;
-  for (int t = 0; t < dense.GetNumberOfTriangles(); ++t)
-  {
-    const int* tri = &dense.Triangles[3 * t];
-    const double* a = &dense.Points[2 * tri[0]];
-    const double* b = &dense.Points[2 * tri[1]];
-    const double* c = &dense.Points[2 * tri[2]];
-    const double w = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-    area += w;
-    for (int j = 0; j < nc; ++j)
-    {
-      mean[j] += w *
-        (std::abs(dense.Values[tri[0] * nc + j]) + std::abs(dense.Values[tri[1] * nc + j]) +
-          std::abs(dense.Values[tri[2] * nc + j])) / 3.0;
-    }
-  }
-  for (double& m : mean)
-  {
-    m /= area;
-  }
-  ResampledMesh same;
-  ro.CompactTolerance = 0.0;
-  r.Resample(ro, same);
-  PENUMBRA_EXPECT(same.Triangles == dense.Triangles && same.Values == dense.Values);
+  PENUMBRA_EXPECT(dense.GetNumberOfTriangles() == 16 * mesh.GetNumberOfTriangles());
   int previous = dense.GetNumberOfTriangles() + 1;
   for (const double tolerance : { 1e-4, 1e-3, 1e-2 })
   {
@@ -1860,78 +2018,87 @@ PENUMBRA_TEST(TestCompactDisplay)
     previous = compact.GetNumberOfTriangles();
     PENUMBRA_EXPECT(compact.SourceTriangle.size() == compact.Triangles.size() / 3);
     PENUMBRA_EXPECT(compact.SourcePoint.size() == compact.Points.size() / 2);
-    // Every dense point: the merged display there (where a jump doubles a
-    // point, the side that shows it best) within the tolerance.
-    double worst = 0.0;
-    for (int p = 0; p < dense.GetNumberOfPoints(); ++p)
+    std::vector<double> absolute(nc);
+    for (int j = 0; j < nc; ++j)
     {
-      const double u = dense.Points[2 * p], v = dense.Points[2 * p + 1];
-      double best = 1e300;
-      for (int t = 0; t < compact.GetNumberOfTriangles(); ++t)
-      {
-        const int* tri = &compact.Triangles[3 * t];
-        const double* p0 = &compact.Points[2 * tri[0]];
-        const double* p1 = &compact.Points[2 * tri[1]];
-        const double* p2 = &compact.Points[2 * tri[2]];
-        const double twice = (p1[0] - p0[0]) * (p2[1] - p0[1]) - (p1[1] - p0[1]) * (p2[0] - p0[0]);
-        const double l1 = ((p2[0] - p0[0]) * (p0[1] - v) - (p2[1] - p0[1]) * (p0[0] - u)) / twice;
-        const double l2 = ((p0[0] - u) * (p1[1] - p0[1]) - (p0[1] - v) * (p1[0] - p0[0])) / twice;
-        const double l0 = 1.0 - l1 - l2;
-        if (std::min(l0, std::min(l1, l2)) < -1e-9)
-        {
-          continue;
-        }
-        double error = 0.0;
-        for (int j = 0; j < nc; ++j)
-        {
-          const double shown = l0 * compact.Values[tri[0] * nc + j] +
-            l1 * compact.Values[tri[1] * nc + j] + l2 * compact.Values[tri[2] * nc + j];
-          error = std::max(error, std::abs(shown - dense.Values[p * nc + j]) / mean[j]);
-        }
-        best = std::min(best, error);
-      }
-      worst = std::max(worst, best);
+      absolute[j] = tolerance * mean[j];
     }
-    // The lines: the same end points, every point on the dense polyline.
-    bool linesKept = compact.LineOffsets.size() == dense.LineOffsets.size();
-    for (std::size_t e = 0; linesKept && e + 1 < dense.LineOffsets.size(); ++e)
-    {
-      const int df = dense.LineOffsets[e], dl = dense.LineOffsets[e + 1];
-      const int cf = compact.LineOffsets[e], cl = compact.LineOffsets[e + 1];
-      if (dl - df < 2)
-      {
-        continue;
-      }
-      linesKept = cl - cf >= 2;
-      for (int k = cf; linesKept && k < cl; ++k)
-      {
-        const int q = compact.LinePoints[k];
-        bool found = false;
-        for (int i = df; i < dl && !found; ++i)
-        {
-          const int d = dense.LinePoints[i];
-          found = dense.Points[2 * d] == compact.Points[2 * q] &&
-            dense.Points[2 * d + 1] == compact.Points[2 * q + 1];
-        }
-        linesKept = found;
-      }
-      const int ends[2][2] = { { dense.LinePoints[df], compact.LinePoints[cf] },
-        { dense.LinePoints[dl - 1], compact.LinePoints[cl - 1] } };
-      for (const auto& end : ends)
-      {
-        linesKept = linesKept && dense.Points[2 * end[0]] == compact.Points[2 * end[1]] &&
-          dense.Points[2 * end[0] + 1] == compact.Points[2 * end[1] + 1];
-      }
-    }
-    std::printf("compact tolerance %g: %d of %d triangles, largest error at a dense point "
-                "%.3g of the mean (%.2f of the tolerance), lines kept %d\n",
-      tolerance, compact.GetNumberOfTriangles(), dense.GetNumberOfTriangles(), worst,
-      worst / tolerance, linesKept ? 1 : 0);
-    PENUMBRA_EXPECT(worst <= tolerance * (1.0 + 1e-9));
+    const double points = LargestCompactError(dense, compact, absolute, false);
+    const double worst = LargestCompactError(dense, compact, absolute, true);
+    int joined = 0;
+    const bool linesKept = CheckCompactLines(mesh, dense, compact, joined);
+    std::printf("compact tolerance %g: %d of %d triangles, largest error at a dense point %.2f, "
+                "also at dense edge midpoints %.2f of the tolerance, lines kept %d (%d joined)\n",
+      tolerance, compact.GetNumberOfTriangles(), dense.GetNumberOfTriangles(), points, worst,
+      linesKept ? 1 : 0, joined);
+    PENUMBRA_EXPECT(worst <= 1.0 + 1e-9);
     PENUMBRA_EXPECT(linesKept);
+    PENUMBRA_EXPECT(tolerance < 1e-2 || joined > 0);
   }
+
+  // The default level 2, merged from its edges left whole where they may.
+  ro = ResampleOptions();
+  ro.CompactTolerance = 0.0;
+  ResampledMesh dense2;
+  r.Resample(ro, dense2);
+  PENUMBRA_EXPECT(dense2.GetNumberOfTriangles() == 4 * mesh.GetNumberOfTriangles());
+  ro.CompactTolerance = 2e-3;
+  ResampledMesh compact2;
+  r.Resample(ro, compact2);
+  CheckResampledMesh(mesh, compact2, "compact from level 2");
+  std::vector<double> absolute(nc);
+  for (int j = 0; j < nc; ++j)
+  {
+    absolute[j] = ro.CompactTolerance * mean[j];
+  }
+  const double level2 = LargestCompactError(dense2, compact2, absolute, false);
+  int joined = 0;
+  std::printf("compact tolerance 0.002 from level 2: %d of %d triangles, largest error at a "
+              "level-2 point %.2f of the tolerance\n",
+    compact2.GetNumberOfTriangles(), dense2.GetNumberOfTriangles(), level2);
+  PENUMBRA_EXPECT(level2 <= 1.0 + 1e-9);
+  PENUMBRA_EXPECT(compact2.GetNumberOfTriangles() < dense2.GetNumberOfTriangles() / 2);
+  PENUMBRA_EXPECT(CheckCompactLines(mesh, dense2, compact2, joined));
+
+  // The indirect part: an absolute tolerance per channel.
+  ro.CompactTolerance = 0.0;
+  ro.CompactIndirectTolerance = 0.02;
+  ro.IndirectRadiance = { 0.1, 0.01 };
+  ResampledMesh indirect;
+  r.Resample(ro, indirect);
+  CheckResampledMesh(mesh, indirect, "compact from the indirect part");
+  const std::vector<double> perChannel = { 0.002, 0.0002 };
+  const double channels = LargestCompactError(dense2, indirect, perChannel, false);
+  std::printf("indirect tolerance 0.002 / 0.0002: %d triangles, largest error %.2f of the "
+              "tolerance\n",
+    indirect.GetNumberOfTriangles(), channels);
+  PENUMBRA_EXPECT(channels <= 1.0 + 1e-9);
+  PENUMBRA_EXPECT(indirect.GetNumberOfTriangles() < dense2.GetNumberOfTriangles());
+
+  // The dense display: both parts 0, or the indirect part without indirect radiance.
+  for (const double indirectTolerance : { 0.0, 0.02 })
+  {
+    ro.CompactIndirectTolerance = indirectTolerance;
+    ro.IndirectRadiance.clear();
+    if (indirectTolerance == 0.0)
+    {
+      ro.IndirectRadiance = { 0.1, 0.01 };
+    }
+    ResampledMesh same;
+    r.Resample(ro, same);
+    PENUMBRA_EXPECT(same.Triangles == dense2.Triangles && same.Values == dense2.Values &&
+      same.Points == dense2.Points && same.LinePoints == dense2.LinePoints);
+  }
+
+  ro = ResampleOptions();
   ro.CompactTolerance = 1.5;
   PENUMBRA_EXPECT_THROW(r.Resample(ro, dense), InputError, "CompactTolerance");
+  ro = ResampleOptions();
+  ro.CompactIndirectTolerance = -0.1;
+  PENUMBRA_EXPECT_THROW(r.Resample(ro, dense), InputError, "CompactIndirectTolerance");
+  ro = ResampleOptions();
+  ro.IndirectRadiance = { 0.1, 0.1, 0.1 };
+  PENUMBRA_EXPECT_THROW(r.Resample(ro, dense), InputError, "IndirectRadiance");
 }
 
 PENUMBRA_TEST(TestBadInput)

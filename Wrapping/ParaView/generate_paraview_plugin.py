@@ -27,7 +27,7 @@ from xml.sax.saxutils import escape, quoteattr
 SOLVER_SETTINGS = ("Indirect", "UnshotFraction", "SamplingTolerance", "ExactPowerFraction",
                    "MaximumIndirectSamples", "MaximumSamples", "SecondaryShooterFraction",
                    "ReuseTransport", "MinimumAngle", "DisplayTolerance", "CompactTolerance",
-                   "SubdivisionLevel")
+                   "CompactIndirectTolerance", "SubdivisionLevel")
 METHODS = ("discontinuity", "standard")
 
 

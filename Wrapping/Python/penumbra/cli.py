@@ -166,7 +166,8 @@ def _command_solve(args):
     if args.method == "standard":
         for given, option in ((args.direct_only, "--direct-only"),
                               (args.quality, "--quality"), (args.tolerance, "--tolerance"),
-                              (args.compact is not None, "--compact")):
+                              (args.compact is not None, "--compact"),
+                              (args.dense, "--dense")):
             if given:
                 return _fail("%s applies to the discontinuity method only" % option,
                              USAGE_ERROR)
@@ -176,8 +177,13 @@ def _command_solve(args):
     else:
         settings["indirect"] = not args.direct_only
         settings["sampling_tolerance"] = args.tolerance
+        if args.dense and args.compact is not None:
+            return _fail("--dense and --compact exclude each other", USAGE_ERROR)
         if args.compact is not None:
             settings["compact_tolerance"] = args.compact
+        if args.dense or args.compact == 0.0:
+            settings["compact_tolerance"] = 0.0
+            settings["compact_indirect_tolerance"] = 0.0
     for text in args.set or ():  # last: --set Indirect=off means what it says
         name, value = filter_settings.parse(solver_class, text)
         settings[name] = value
@@ -317,14 +323,23 @@ def build_parser():
                             "accurate and slower"
                             % (tolerance.formatted_range(), tolerance.formatted_default()))
     compact = filter_settings.find("vtkPenumbraSolver", "CompactTolerance")
+    indirect = filter_settings.find("vtkPenumbraSolver", "CompactIndirectTolerance")
     solve.add_argument("--compact", type=_in_range(compact), nargs="?", const=2e-3,
                        default=None, metavar="T",
-                       help="compact output: merge the display's triangles wherever the "
-                            "radiance stays within T of each surface's mean (CompactTolerance, "
-                            "in %s; T defaults to 2e-3). The display moves by about 0.7 T: "
-                            "a 1,000-polygon room has 3.3 times fewer triangles at the same "
-                            "accuracy, a 0.05%%-accurate direct-light floor becomes about "
-                            "twice less accurate" % compact.formatted_range())
+                       help="how far the compact output may move from the dense display, "
+                            "relative to each surface's mean radiance (CompactTolerance, in %s, "
+                            "default %s; T defaults to 2e-3 when not given); where the "
+                            "interreflections were shot on the coarse level (large scenes) it "
+                            "may also move by %s of the scene's mean indirect radiance "
+                            "(CompactIndirectTolerance). By default furnished_room(1000) comes "
+                            "out in 0.44 million triangles instead of 3.3 million, as accurate "
+                            "against a path-traced reference; --compact 0 is --dense"
+                            % (compact.formatted_range(), compact.formatted_default(),
+                               indirect.formatted_default()))
+    solve.add_argument("--dense", action="store_true",
+                       help="the dense display: every sample triangle cut into "
+                            "SubdivisionLevel^2 (4) triangles, nothing merged "
+                            "(CompactTolerance and CompactIndirectTolerance 0)")
     solve.add_argument("--strict", action="store_true",
                        help="repair nothing: reject non-planar, degenerate and duplicate "
                             "polygons and undefined OBJ materials instead of fixing them")
