@@ -4,6 +4,7 @@
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Benchmarks/compare_cornell.py [--runs 3]
         [--method discontinuity|standard] [--element-size S] [--quality draft|normal|high]
+        [--dense]
 
 Solves the built-in Cornell box with penumbra.solve() (median wall time of
 --runs runs), averages the displayed radiance (linear over the output
@@ -90,6 +91,8 @@ def main():
                         help="--method standard: initial element size relative to the scene")
     parser.add_argument("--quality", choices=("draft", "normal", "high"), default=None,
                         help="a preset of `penumbra solve --quality` (discontinuity method)")
+    parser.add_argument("--dense", action="store_true",
+                        help="the dense display (CompactTolerance and CompactIndirectTolerance 0)")
     parser.add_argument("--reference", default=os.path.join(HERE, "reference", "cornell_reference.npz"))
     parser.add_argument("--out", default=os.path.join(os.path.dirname(HERE), "build", "benchmarks"))
     args = parser.parse_args()
@@ -98,6 +101,8 @@ def main():
     for _ in range(args.runs):
         start = time.perf_counter()
         settings = {} if args.element_size is None else {"element_size": args.element_size}
+        if args.dense:
+            settings.update(compact_tolerance=0.0, compact_indirect_tolerance=0.0)
         result = penumbra.solve("cornell", threads=args.threads, method=args.method,
                                 quality=args.quality, **settings)
         times.append(time.perf_counter() - start)

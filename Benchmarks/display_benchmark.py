@@ -10,10 +10,12 @@ Each scene is solved once with vtkPenumbraSolver's defaults (the direct-light sc
 occluder, seven and blind with the interreflections off; "room1000" is
 penumbra.generators.box_room(1000, seed=1), as in scale_benchmark.py, and "room1000direct"
 the same room with the interreflections off), and the samples are reconstructed for
-display several times from the same solve: uniformly (DisplayTolerance 0, SubdivisionLevel
-2: the dense display; and 4), adaptively at each of --tolerances, compacted from the uniform
-display of each of --compact-levels (SubdivisionLevel) at each of --compact
-(CompactTolerance), and densely as the reference. For each display it prints the output
+display several times from the same solve: with the reconstructor's defaults (the compact
+display), uniformly (DisplayTolerance 0, SubdivisionLevel 2: the dense display; and 4),
+adaptively at each of --tolerances, compacted from the uniform display of each of
+--compact-levels (SubdivisionLevel) at each of --compact (CompactTolerance), and densely as
+the reference. Every display but the default one has CompactIndirectTolerance 0, and
+CompactTolerance 0 unless compacted. For each display it prints the output
 triangles, the size of the .vtp the command line writes (binary, zlib), the time of the
 reconstructor, and the displayed radiance (linear over the output triangles) at 4,000
 random points (area-weighted over all surfaces) against:
@@ -62,15 +64,18 @@ def stages_of(name):
 
 
 def display(samples, tolerance, level, compact=0.0):
-    """The reconstructor's output from the solved samples, and its time."""
+    """The reconstructor's output from the solved samples, and its time (level None:
+    the reconstructor's defaults)."""
     import penumbra
     from vtkmodules.vtkCommonDataModel import vtkPolyData
 
     reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
     reconstructor.SetInputConnection(samples.GetOutputPort())
-    reconstructor.SetDisplayTolerance(tolerance)
-    reconstructor.SetSubdivisionLevel(level)
-    reconstructor.SetCompactTolerance(compact)
+    if level is not None:
+        reconstructor.SetDisplayTolerance(tolerance)
+        reconstructor.SetSubdivisionLevel(level)
+        reconstructor.SetCompactTolerance(compact)
+        reconstructor.SetCompactIndirectTolerance(0.0)
     start = time.perf_counter()
     output = penumbra.run_filter(reconstructor)
     seconds = time.perf_counter() - start
@@ -120,7 +125,8 @@ def main(argv=None):
         if name in DIRECT:
             floor = floor_points(scene, POINTS)
             exact = exact_radiance(scene, floor)
-        displays = ([("uniform 2", 0.0, 2, 0.0), ("uniform 4", 0.0, 4, 0.0)]
+        displays = ([("default", 0.0, None, 0.0), ("uniform 2", 0.0, 2, 0.0),
+                     ("uniform 4", 0.0, 4, 0.0)]
                     + [("tolerance %g" % t, t, 2, 0.0) for t in args.tolerances]
                     + [("compact %g from %d" % (c, level), 0.0, level, c)
                        for level in args.compact_levels for c in args.compact])

@@ -7,7 +7,7 @@ and its error against a path-traced reference.
         Benchmarks/scale_benchmark.py [--scene furnished_room|box_room] \\
         [--sizes 1000 5000 20000] [--threads 2] \\
         [--runs 3] [--indirect-samples N] [--no-reuse] [--unshot-fraction F] \\
-        [--compact-tolerance T]
+        [--compact-tolerance T] [--dense]
 
 The scenes: `furnished_room` (default; penumbra.generators.furnished_room:
 office bays with desks on legs, chairs, bookcases 1 cm from a wall full of
@@ -38,7 +38,8 @@ medians, with the range of the wall times
 5 minutes and 4 GB on 2 cores. --indirect-samples sets the solver's
 MaximumIndirectSamples; --no-reuse turns its ReuseTransport off (weak
 shots one orientation at a time, each tracing its rays); --compact-tolerance sets
-CompactTolerance (0: the dense display).
+CompactTolerance; --dense asks for the dense display (CompactTolerance and
+CompactIndirectTolerance 0).
 """
 import argparse
 import json
@@ -196,7 +197,9 @@ def main():
     parser.add_argument("--unshot-fraction", type=float,
                         help="UnshotFraction (default: the solver's)")
     parser.add_argument("--compact-tolerance", type=float,
-                        help="CompactTolerance (default: the solver's; 0: the dense display)")
+                        help="CompactTolerance (default: the solver's)")
+    parser.add_argument("--dense", action="store_true",
+                        help="the dense display (CompactTolerance and CompactIndirectTolerance 0)")
     parser.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.seed is None:
@@ -211,6 +214,9 @@ def main():
             settings["unshot_fraction"] = args.unshot_fraction
         if args.compact_tolerance is not None:
             settings["compact_tolerance"] = args.compact_tolerance
+        if args.dense:
+            settings["compact_tolerance"] = 0.0
+            settings["compact_indirect_tolerance"] = 0.0
         run_child(args.scene, args.child, args.threads, args.seed, settings)
         return 0
 
@@ -231,6 +237,8 @@ def main():
             command += ["--unshot-fraction", repr(args.unshot_fraction)]
         if args.compact_tolerance is not None:
             command += ["--compact-tolerance", repr(args.compact_tolerance)]
+        if args.dense:
+            command.append("--dense")
         runs = []
         for _ in range(max(1, args.runs)):
             try:
@@ -293,10 +301,11 @@ def main():
     label = "default solve" if args.indirect_samples is None and not args.no_reuse else \
         "indirect samples %s%s" % (args.indirect_samples or "default",
                                    ", transport not reused" if args.no_reuse else "")
-    axis.set_title("%s, %d threads%s%s" % (
+    axis.set_title("%s, %d threads%s%s%s" % (
         label, args.threads,
         "" if args.unshot_fraction is None else ", unshot %g" % args.unshot_fraction,
-        "" if args.compact_tolerance is None else ", compact %g" % args.compact_tolerance)
+        "" if args.compact_tolerance is None else ", compact %g" % args.compact_tolerance,
+        ", dense display" if args.dense else "")
         + (", median of %d" % args.runs if args.runs > 1 else ""))
     axis.legend()
     axis.grid(True, which="both", alpha=0.3)
