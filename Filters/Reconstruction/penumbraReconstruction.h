@@ -208,13 +208,13 @@ struct ResampleOptions
   /// every edge it removes; the outline and the constrained edges keep their
   /// shape. With SubdivisionLevel 2 and CloughTocher, an input edge is only
   /// halved where the interpolant at its midpoint is more than half the
-  /// tolerance off the chord, so nearly linear regions are never cut. Each
+  /// tolerance off the chord, so nearly linear regions are not cut first. Each
   /// channel's tolerance is the larger of this fraction of the receiver's
   /// mean value (area-weighted over the samples) and
   /// CompactIndirectTolerance times IndirectRadiance. This part is for
   /// values exact up to the reconstruction: on the direct-light floors
-  /// (0.05-0.13% RMS against exact values) 5e-4 gives 1.5 to 3.4 times fewer
-  /// triangles for at most 4% more error, the Cornell box 1.5 times fewer at
+  /// (0.05-0.13% RMS against exact values) 5e-4 gives 1.5 to 3.1 times fewer
+  /// triangles for at most 6% more error, the Cornell box 1.5 times fewer at
   /// the same error (Documentation/benchmarks.md, "Compact display"). Both
   /// parts 0 (or this one 0 and no IndirectRadiance): the dense display.
   /// [5e-4], in [0, 1]
@@ -223,12 +223,12 @@ struct ResampleOptions
   /// fraction of IndirectRadiance, per channel, though by no more than a
   /// quarter of the value at the point (dark places, such as the ceiling
   /// inside a light fixture, keep what light they have). Interreflections
-  /// computed on the coarse level are off by about that much everywhere, in
-  /// absolute terms rather than relative to each surface: against a
-  /// path-traced reference, furnished_room(1000)'s floors, desk tops, walls
-  /// and ceilings by 0.8-2.4% of the scene's mean indirect radiance (RMS),
+  /// computed on the coarse level are off by at least that much, in absolute
+  /// terms rather than relative to each surface: against a path-traced
+  /// reference, furnished_room(1000)'s floors by 0.85% of the scene's mean
+  /// indirect radiance (RMS), its desk tops, walls and ceilings by 2-4.5%,
   /// its book faces alike (several % of their own radiance). 0.01 gives that
-  /// room 7.5 times fewer triangles for at most 6% more error at the
+  /// room 7.3 times fewer triangles for at most 8% more error at the
   /// reference's probes. [0.01], in [0, 1]
   double CompactIndirectTolerance = 0.01;
   /// Per channel, the scene's area-mean indirect radiance (what the

@@ -332,7 +332,7 @@ def build_parser():
                             "interreflections were shot on the coarse level (large scenes) it "
                             "may also move by %s of the scene's mean indirect radiance "
                             "(CompactIndirectTolerance). By default furnished_room(1000) comes "
-                            "out in 0.44 million triangles instead of 3.3 million, as accurate "
+                            "out in 0.44 million triangles instead of 3.2 million, as accurate "
                             "against a path-traced reference; --compact 0 is --dense"
                             % (compact.formatted_range(), compact.formatted_default(),
                                indirect.formatted_default()))
