@@ -83,7 +83,12 @@ ShooterRadiance::ShooterRadiance(
   const double diameter = Length(hi - lo);
   // Orientation-independent plane normal: the largest triangle's normal, then
   // every triangle's normal summed with the sign that agrees with it.
-  std::vector<Vec3> normals(this->Triangles.size());
+  // Triangles of (nearly) zero area carry no radiance into any integral and
+  // have no well-defined plane or gradient: they are dropped. Compact
+  // displays and decimated meshes produce such slivers legitimately.
+  std::vector<Vec3> normals;
+  normals.reserve(this->Triangles.size());
+  std::size_t kept = 0;
   std::size_t largest = 0;
   for (std::size_t t = 0; t < this->Triangles.size(); ++t)
   {
@@ -97,15 +102,24 @@ ShooterRadiance::ShooterRadiance(
       }
     }
     const Vec3& a = this->Points[this->Triangles[t][0]];
-    normals[t] = Cross(this->Points[this->Triangles[t][1]] - a, this->Points[this->Triangles[t][2]] - a);
-    if (!(Length(normals[t]) * 0.5 > 1e-12 * diameter * diameter))
+    const Vec3 normal =
+      Cross(this->Points[this->Triangles[t][1]] - a, this->Points[this->Triangles[t][2]] - a);
+    if (!(Length(normal) * 0.5 > 1e-12 * diameter * diameter))
     {
-      throw InputError(where + "triangle " + std::to_string(t) + " is degenerate (zero area)");
+      continue;
     }
-    if (SquaredLength(normals[t]) > SquaredLength(normals[largest]))
+    if (normals.empty() || SquaredLength(normal) > SquaredLength(normals[largest]))
     {
-      largest = t;
+      largest = kept;
     }
+    this->Triangles[kept++] = this->Triangles[t];
+    normals.push_back(normal);
+  }
+  this->DroppedTriangles = static_cast<int>(this->Triangles.size() - kept);
+  this->Triangles.resize(kept);
+  if (this->Triangles.empty())
+  {
+    throw InputError(where + "every triangle is degenerate (zero area)");
   }
   Vec3 sum;
   for (const Vec3& c : normals)

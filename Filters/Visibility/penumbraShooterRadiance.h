@@ -106,9 +106,11 @@ public:
    * 1e-6 of the mesh's diameter); their orientation does not matter. Throws
    * InputError naming the offending point or triangle for: sizes that do not
    * match, no triangle, an index out of range, non-finite coordinates or
-   * values, a degenerate triangle (area below 1e-12 of the squared
-   * diameter), or points off the plane. Values may be negative (a linear
-   * function is integrated exactly whatever its sign).
+   * values, or points off the plane. Degenerate triangles (area below 1e-12
+   * of the squared diameter) carry nothing and are dropped
+   * (GetNumberOfDroppedTriangles()); a mesh with no other triangle throws.
+   * Values may be negative (a linear function is integrated exactly
+   * whatever its sign).
    */
   ShooterRadiance(std::vector<Vec3> points, std::vector<std::array<int, 3>> triangles,
     std::vector<RGB> values);
@@ -118,6 +120,9 @@ public:
 
   /// The constant value (meaningful when IsConstant()).
   const RGB& GetConstantValue() const { return this->Constant; }
+
+  /// Degenerate triangles the constructor dropped.
+  int GetNumberOfDroppedTriangles() const { return this->DroppedTriangles; }
 
   /// Number of mesh triangles (0 for a constant radiance).
   int GetNumberOfTriangles() const { return static_cast<int>(this->Triangles.size()); }
@@ -178,6 +183,7 @@ private:
   RGB Constant;
   std::vector<Vec3> Points;
   std::vector<std::array<int, 3>> Triangles;
+  int DroppedTriangles = 0;
   std::vector<RGB> Values;
   std::vector<LinearRadiance> Functions;
   std::vector<double> Areas;

@@ -482,6 +482,25 @@ PENUMBRA_TEST(TestInvalidMesh)
   PENUMBRA_EXPECT_THROW(ShooterRadiance(p, { { 0, 1, 5 } }, v), InputError, "triangle 0");
   PENUMBRA_EXPECT_THROW(ShooterRadiance(p, { { 0, 1, 2 }, { 1, 3, 2 } }, v), InputError, "off the plane");
   PENUMBRA_EXPECT_THROW(ShooterRadiance(p, { { 0, 1, 1 } }, v), InputError, "degenerate");
+  PENUMBRA_EXPECT_THROW(ShooterRadiance(p, { { 0, 1, 1 }, { 2, 2, 0 } }, v), InputError, "every triangle");
+}
+
+/// A sliver beside a real triangle carries nothing: it is dropped and the
+/// irradiance is that of the real triangle alone.
+PENUMBRA_TEST(TestSliverDropped)
+{
+  // Unit right triangle at z = 0 facing +z, radiance rising along x, and a
+  // sliver of area 1e-14 along its hypotenuse's far side.
+  const std::vector<Vec3> p = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0.5, 0.5 + 1e-14, 0 } };
+  const std::vector<RGB> v = { RGB(1, 1, 1), RGB(3, 2, 1), RGB(1, 1, 1), RGB(50, 50, 50) };
+  const ShooterRadiance withSliver(p, { { 0, 1, 2 }, { 1, 3, 2 } }, v);
+  const ShooterRadiance alone(p, { { 0, 1, 2 } }, v);
+  PENUMBRA_EXPECT(withSliver.GetNumberOfTriangles() == 1);
+  PENUMBRA_EXPECT(withSliver.GetNumberOfDroppedTriangles() == 1);
+  PENUMBRA_EXPECT_REL(withSliver.GetTriangleArea(0), 0.5, 1e-12);
+  // Exact integral of the linear radiance: area x mean of the corner values.
+  PENUMBRA_EXPECT_REL(withSliver.Integrate(0.0).R, 0.5 * (1.0 + 3.0 + 1.0) / 3.0, 1e-12);
+  PENUMBRA_EXPECT_REL(withSliver.Integrate(0.0).G, alone.Integrate(0.0).G, 1e-15);
   PENUMBRA_EXPECT_THROW(ShooterRadiance(p, { { 0, 1, 2 } }, { RGB() }), InputError, "values");
   PENUMBRA_EXPECT_THROW(ShooterRadiance(p, {}, v), InputError, "no triangle");
 }
