@@ -200,6 +200,9 @@ def main():
                         help="CompactTolerance (default: the solver's)")
     parser.add_argument("--dense", action="store_true",
                         help="the dense display (CompactTolerance and CompactIndirectTolerance 0)")
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                        help="any other setting of penumbra.solve by its snake_case name, "
+                             "e.g. --set jump_threshold=1e-3 (repeatable)")
     parser.add_argument("--child", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.seed is None:
@@ -217,6 +220,9 @@ def main():
         if args.dense:
             settings["compact_tolerance"] = 0.0
             settings["compact_indirect_tolerance"] = 0.0
+        for assignment in args.set:
+            name, _, value = assignment.partition("=")
+            settings[name.strip()] = float(value)
         run_child(args.scene, args.child, args.threads, args.seed, settings)
         return 0
 
@@ -239,6 +245,8 @@ def main():
             command += ["--compact-tolerance", repr(args.compact_tolerance)]
         if args.dense:
             command.append("--dense")
+        for assignment in args.set:
+            command += ["--set", assignment]
         runs = []
         for _ in range(max(1, args.runs)):
             try:
@@ -306,6 +314,7 @@ def main():
         "" if args.unshot_fraction is None else ", unshot %g" % args.unshot_fraction,
         "" if args.compact_tolerance is None else ", compact %g" % args.compact_tolerance,
         ", dense display" if args.dense else "")
+        + "".join(", " + assignment for assignment in args.set)
         + (", median of %d" % args.runs if args.runs > 1 else ""))
     axis.legend()
     axis.grid(True, which="both", alpha=0.3)

@@ -153,5 +153,52 @@ double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double
   return std::min(1.0, cosines * p.Area / (Pi * d * d));
 }
 
+namespace
+{
+
+double BoundingRadius(const PolygonData& p)
+{
+  double radius = 0.0;
+  for (const Vec3& v : p.V)
+  {
+    radius = std::max(radius, Length(v - p.Centroid));
+  }
+  return radius;
+}
+
+} // namespace
+
+double HiddenFormFactorBound(const PolygonData& shooter, const Vec3& occluderCentre,
+  double occluderRadius, const PolygonData& receiver)
+{
+  const double height = Dot(receiver.N, occluderCentre) - receiver.D - occluderRadius;
+  if (!(height > 0.0))
+  {
+    return 1.0;
+  }
+  const double shooterRadius = BoundingRadius(shooter);
+  const Vec3 between = shooter.Centroid - occluderCentre;
+  const double distance = Length(between);
+  const double gap = distance - occluderRadius - shooterRadius;
+  double receiverCosine = 1.0;
+  double shooterCosine = 1.0;
+  if (gap > 0.0)
+  {
+    const Vec3 u = between * (1.0 / distance);
+    const double halfAngle = std::asin(std::min(1.0, (occluderRadius + shooterRadius) / distance));
+    receiverCosine = LargestCosine(receiver.N, u, halfAngle);
+    shooterCosine = LargestCosine(shooter.N, u * -1.0, halfAngle);
+  }
+  // The occluder's sphere seen from the plane: a cap of half-angle a with
+  // sin a = radius / distance; its projected solid angle over pi is at most
+  // sin^2 a, and at most 2 (1 - cos a) times the largest cosine.
+  const double sine = std::min(1.0, occluderRadius / (height + occluderRadius));
+  const double cap = std::min(
+    sine * sine, 2.0 * receiverCosine * (1.0 - std::sqrt(std::max(0.0, 1.0 - sine * sine))));
+  const double length = height + std::max(0.0, gap);
+  const double hidden = receiverCosine * shooterCosine * shooter.Area / (Pi * length * length);
+  return std::min({ 1.0, cap, hidden });
+}
+
 } // namespace detail
 } // namespace penumbra

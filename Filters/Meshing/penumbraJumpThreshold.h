@@ -47,6 +47,22 @@ void DropFaintShadows(const SceneTopology& topology, const Scene& scene, int rec
 double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double receiverRadius,
   bool emitsFromFront);
 
+/// An upper bound, over every point of `receiver`, of the form factor of the
+/// part of `shooter` that an occluder inside the sphere (`occluderCentre`,
+/// `occluderRadius`) hides: the largest jump (over Ls) its shadow
+/// boundaries can carry. Every hidden ray runs from the receiver's plane
+/// through the occluder's sphere to the shooter, so its length is at least
+/// the sphere's height above the plane plus the gap between the sphere and
+/// the shooter's, its direction lies in the cone between the two spheres
+/// (which bounds both cosines), and its solid angle is within the sphere's
+/// as seen from the plane. The sphere is the whole connected object's (a
+/// finely triangulated object hides as much as one big polygon would).
+/// Unlike FormFactorBound it stays tight for receivers much larger than the
+/// distances involved (a floor under many lights). 1 when the sphere
+/// reaches the receiver's plane.
+double HiddenFormFactorBound(const PolygonData& shooter, const Vec3& occluderCentre,
+  double occluderRadius, const PolygonData& receiver);
+
 } // namespace detail
 } // namespace penumbra
 

@@ -164,6 +164,33 @@ void SceneTopology::BuildComponents()
     this->Polygons[k].Component = it->second;
     this->ComponentPolygons[it->second].push_back(static_cast<int>(k));
   }
+  const std::size_t components = this->ComponentPolygons.size();
+  this->ComponentCentre.assign(components, Vec3());
+  this->ComponentRadius.assign(components, 0.0);
+  for (std::size_t c = 0; c < components; ++c)
+  {
+    Vec3 lo = this->Polygons[this->ComponentPolygons[c][0]].V[0];
+    Vec3 hi = lo;
+    for (const int k : this->ComponentPolygons[c])
+    {
+      for (const Vec3& v : this->Polygons[k].V)
+      {
+        lo = { std::min(lo.X, v.X), std::min(lo.Y, v.Y), std::min(lo.Z, v.Z) };
+        hi = { std::max(hi.X, v.X), std::max(hi.Y, v.Y), std::max(hi.Z, v.Z) };
+      }
+    }
+    const Vec3 centre = (lo + hi) * 0.5;
+    double radius = 0.0;
+    for (const int k : this->ComponentPolygons[c])
+    {
+      for (const Vec3& v : this->Polygons[k].V)
+      {
+        radius = std::max(radius, Length(v - centre));
+      }
+    }
+    this->ComponentCentre[c] = centre;
+    this->ComponentRadius[c] = radius;
+  }
   for (std::size_t e = 0; e < this->EdgeUses.size(); ++e)
   {
     if (this->EdgeUses[e].size() != 2)

@@ -54,6 +54,10 @@ struct SceneTopology
   std::vector<std::array<int, 2>> EdgeClusters;
   std::vector<std::vector<int>> ComponentPolygons;
   std::vector<std::vector<int>> ComponentOpenEdges; ///< edges not shared by exactly two polygons
+  /// A sphere holding each component: the centre of its bounding box and the
+  /// largest distance of its vertices from it.
+  std::vector<Vec3> ComponentCentre;
+  std::vector<double> ComponentRadius;
   double Size = 1.0; ///< the scene size (tolerances are relative to it)
 
   /// Fill every table from a validated scene.

@@ -19,6 +19,11 @@ namespace detail
 namespace
 {
 
+// The largest screens tried per pair: the big boards (shelves, desk tops,
+// cabinet backs) come first by area, and each feature tries them all when
+// none hides it.
+constexpr int kMaxScreens = 12;
+
 // Add to `cone` the planes through `apex` and the edges of a convex hull
 // (centre `centre`), facing the hull, or away from it when `reflected`.
 void AddCone(const Vec3* hull, int count, const Vec3& centre, const Vec3& apex, bool reflected,
@@ -150,7 +155,11 @@ void ShadowEvents::SelectFeatures(const CullingVolume& shaft)
   vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
   // Keep only features usable as occluders of this pair: not lying in the
   // receiver's plane (contacts), partly in front of the shooter and receiver,
-  // and meeting the shaft.
+  // meeting the shaft, and not hidden from the receiver by a screen.
+  if (this->Settings.CullWedges)
+  {
+    this->Screens.Build(this->Topology, this->Candidates, this->Sh, this->Rec, tol, kMaxScreens);
+  }
   for (int e : edges)
   {
     Vec3 a, b;
@@ -165,7 +174,7 @@ void ShadowEvents::SelectFeatures(const CullingVolume& shaft)
       continue;
     }
     const Vec3 ends[2] = { a, b };
-    if (this->OutsideShaft(shaft, ends, 2))
+    if (this->OutsideShaft(shaft, ends, 2) || this->Screens.Hides(ends, 2))
     {
       continue;
     }
@@ -174,7 +183,8 @@ void ShadowEvents::SelectFeatures(const CullingVolume& shaft)
   for (int c : vertices)
   {
     const Vec3& p = this->Topology.ClusterPoint[c];
-    if (this->DistR(p) > contactTol && this->DistS(p) > tol && !this->OutsideShaft(shaft, &p, 1))
+    if (this->DistR(p) > contactTol && this->DistS(p) > tol &&
+      !this->OutsideShaft(shaft, &p, 1) && !this->Screens.Hides(&p, 1))
     {
       this->UsableVertices.push_back(c);
     }
@@ -206,7 +216,8 @@ void ShadowEvents::ExcludeVertex(int c, std::vector<int>& exclude) const
 // With a jump threshold, a wedge is not traced when even an upper bound of
 // the jump its pieces would get is below the minimum: the jump at a point
 // x of R is Ls min(F_occluders(x), F_S(x)) (see DropFaintShadows), and a
-// form factor is bounded by FormFactorBound.
+// form factor is bounded by FormFactorBound; the part of S an occluding
+// object hides, by HiddenFormFactorBound.
 bool ShadowEvents::Faint(int occluderA, int occluderB) const
 {
   if (!(this->MinimumJump >= 0.0 && this->Settings.CullWedges))
@@ -215,12 +226,17 @@ bool ShadowEvents::Faint(int occluderA, int occluderB) const
   }
   const std::vector<PolygonData>& polygons = this->Topology.Polygons;
   const double receiverRadius = this->Ctx.ReceiverRadius;
-  double bound = FormFactorBound(polygons[this->ShooterId], this->Rec, receiverRadius, true);
+  const PolygonData& shooter = polygons[this->ShooterId];
+  double bound = FormFactorBound(shooter, this->Rec, receiverRadius, true);
   for (int k : { occluderA, occluderB })
   {
     if (k >= 0)
     {
       bound = std::min(bound, FormFactorBound(polygons[k], this->Rec, receiverRadius, false));
+      const int component = polygons[k].Component;
+      bound = std::min(bound,
+        HiddenFormFactorBound(shooter, this->Topology.ComponentCentre[component],
+          this->Topology.ComponentRadius[component], this->Rec));
     }
   }
   // The margin keeps rounding from dropping a wedge at the threshold.

@@ -15,6 +15,7 @@
 #include "penumbraConstraintMerging.h"
 #include "penumbraDiscontinuityMesher.h"
 #include "penumbraSceneTopology.h"
+#include "penumbraScreens.h"
 #include "penumbraWedgeTracer.h"
 
 #include <utility>
@@ -97,6 +98,7 @@ private:
   std::vector<int> UsableEdges;    ///< sorted
   std::vector<int> UsableVertices; ///< sorted
   PairContext Ctx;
+  ScreenSet Screens; ///< polygons hiding whole features from the receiver
   std::vector<std::pair<Vec3, Vec3>> Traced;
   std::vector<Interval> ClipScratch;
   std::vector<std::pair<P2, P2>> Pieces;

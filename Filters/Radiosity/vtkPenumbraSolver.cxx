@@ -47,6 +47,7 @@ vtkPenumbraSolver::vtkPenumbraSolver()
   const penumbra::TransportSettings transport;
   const penumbra::ResampleOptions display;
   this->MinimumAngle = meshing.MinimumAngle;
+  this->JumpThreshold = meshing.JumpThreshold;
   this->SamplingTolerance = evaluation.Sampling.SamplingTolerance;
   this->MaximumSamples = static_cast<vtkIdType>(evaluation.MaximumSamples);
   this->UnshotFraction = transport.Shooting.UnshotFraction;
@@ -161,6 +162,7 @@ int vtkPenumbraSolver::Execute(
   vtkNew<vtkPenumbraDiscontinuityMesher> mesher;
   mesher->SetInputData(scene);
   mesher->SetMinimumAngle(this->MinimumAngle);
+  mesher->SetJumpThreshold(this->JumpThreshold);
   vtkNew<vtkPenumbraRadianceEvaluator> evaluator;
   evaluator->SetInputConnection(0, mesher->GetOutputPort());
   evaluator->SetSceneData(scene);
@@ -313,6 +315,7 @@ int vtkPenumbraSolver::Execute(
            << " ReuseTransport=" << (this->ReuseTransport ? 1 : 0)
            << " SamplingTolerance=" << this->SamplingTolerance
            << " MaximumSamples=" << this->MaximumSamples << " MinimumAngle=" << this->MinimumAngle
+           << " JumpThreshold=" << this->JumpThreshold
            << " SubdivisionLevel=" << this->SubdivisionLevel
            << " DisplayTolerance=" << this->DisplayTolerance
            << " CompactTolerance=" << this->CompactTolerance
@@ -337,6 +340,7 @@ void vtkPenumbraSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
   os << indent << "MaximumSamples: " << this->MaximumSamples << "\n";
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
+  os << indent << "JumpThreshold: " << this->JumpThreshold << "\n";
   os << indent << "DisplayTolerance: " << this->DisplayTolerance << "\n";
   os << indent << "CompactTolerance: " << this->CompactTolerance << "\n";
   os << indent << "CompactIndirectTolerance: " << this->CompactIndirectTolerance << "\n";

@@ -138,6 +138,17 @@ public:
 
   ///@{
   /**
+   * Shadow boundaries whose estimated radiance jump is below this fraction
+   * of the receiver's largest unoccluded direct radiance are not meshed
+   * (vtkPenumbraDiscontinuityMesher::JumpThreshold). Default 0 (keep all),
+   * range [0, 1].
+   */
+  vtkSetClampMacro(JumpThreshold, double, 0.0, 1.0);
+  vtkGetMacro(JumpThreshold, double);
+  ///@}
+
+  ///@{
+  /**
    * Display resampling: each sample triangle is cut only as finely as needed
    * for the displayed radiance to stay within this fraction of the surface's
    * mean radiance of the reconstruction
@@ -196,6 +207,7 @@ protected:
   vtkIdType MaximumIndirectSamples;
   bool ReuseTransport;
   double MinimumAngle;
+  double JumpThreshold;
   double DisplayTolerance;
   double CompactTolerance;
   double CompactIndirectTolerance;

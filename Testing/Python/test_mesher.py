@@ -142,17 +142,21 @@ def boundary_lines(scene, **settings):
     return {key: np.array(value) for key, value in groups.items()}, counts
 
 
-@pytest.mark.parametrize("seed", [1, 2])
-def test_wedge_culling_keeps_every_boundary(seed):
-    # A random room of ~300 polygons: the same lines (each surface, order and
-    # source; end points within 1e-9 of the room size, either direction) with
-    # and without culling, and far fewer wedges traced with it.
-    from penumbra.generators import box_room
+@pytest.mark.parametrize("generator,seed,jump", [("box_room", 1, 0.0), ("box_room", 2, 0.0),
+                                                 ("furnished_room", 0, 0.0),
+                                                 ("furnished_room", 0, 3e-3)])
+def test_wedge_culling_keeps_every_boundary(generator, seed, jump):
+    # A random room of ~300 polygons, and a furnished bay (books on shelves
+    # and in front of a bookcase's back, a keyboard and monitor on a desk:
+    # features hidden by screens): the same lines (each surface, order and
+    # source; end points within 1e-9 of the room size, either direction)
+    # with and without culling, and far fewer wedges traced with it.
+    from penumbra import generators
 
-    scene = box_room(300, seed=seed)
+    scene = getattr(generators, generator)(300, seed=seed)
     tol = 1e-9 * max(np.ptp(vtk_to_numpy(scene.GetPoints().GetData()), axis=0))
-    culled, culled_counts = boundary_lines(scene)
-    traced, traced_counts = boundary_lines(scene, CullWedges=False)
+    culled, culled_counts = boundary_lines(scene, JumpThreshold=jump)
+    traced, traced_counts = boundary_lines(scene, JumpThreshold=jump, CullWedges=False)
     assert culled.keys() == traced.keys()
     def distance(lines, other):
         """Largest end point distance of each line to its nearest line of `other`."""
