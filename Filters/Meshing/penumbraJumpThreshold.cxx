@@ -79,6 +79,66 @@ double MinimumJump(const SceneTopology& topology, const Scene& scene, int receiv
                          : std::numeric_limits<double>::infinity();
 }
 
+namespace
+{
+
+// The largest cosine between `normal` and a direction within `halfAngle` of
+// unit direction `u`.
+double LargestCosine(const Vec3& normal, const Vec3& u, double halfAngle)
+{
+  const double angle = std::acos(std::max(-1.0, std::min(1.0, Dot(normal, u))));
+  return angle <= halfAngle ? 1.0 : std::max(0.0, std::cos(angle - halfAngle));
+}
+
+double BoundingRadius(const PolygonData& p)
+{
+  double radius = 0.0;
+  for (const Vec3& v : p.V)
+  {
+    radius = std::max(radius, Length(v - p.Centroid));
+  }
+  return radius;
+}
+
+} // namespace
+
+double HiddenFormFactor(const PolygonData& shooter, const Vec3& centre, double radius,
+  const Vec3& receiverNormal, double reach)
+{
+  if (!(reach > radius))
+  {
+    return 1.0;
+  }
+  const double shooterRadius = BoundingRadius(shooter);
+  const Vec3 between = shooter.Centroid - centre;
+  const double distance = Length(between);
+  const double gap = distance - radius - shooterRadius;
+  double receiverCosine = 1.0;
+  double shooterCosine = 1.0;
+  if (gap > 0.0)
+  {
+    // Every hidden ray runs from the object's sphere to the shooter's.
+    const Vec3 u = between * (1.0 / distance);
+    const double halfAngle = std::asin(std::min(1.0, (radius + shooterRadius) / distance));
+    receiverCosine = LargestCosine(receiverNormal, u, halfAngle);
+    shooterCosine = LargestCosine(shooter.N, u * -1.0, halfAngle);
+  }
+  // The sphere seen from the point: a cap of half-angle a, sin a = radius /
+  // reach, whose projected solid angle over pi is at most sin^2 a.
+  const double sine = radius / reach;
+  const double length = reach - radius + std::max(0.0, gap);
+  const double hidden = receiverCosine * shooterCosine * shooter.Area / (Pi * length * length);
+  return std::min({ 1.0, sine * sine, hidden });
+}
+
+double HiddenFormFactorBound(const PolygonData& shooter, const Vec3& centre, double radius,
+  const PolygonData& receiver)
+{
+  // Every point of the receiver's plane is at least the centre's height
+  // from it, and the estimate decreases with the distance.
+  return HiddenFormFactor(shooter, centre, radius, receiver.N, Dot(receiver.N, centre) - receiver.D);
+}
+
 void DropFaintShadows(const SceneTopology& topology, const Scene& scene, int receiverId,
   const DiscontinuityMeshSettings& settings, const ReceiverFrame& frame, double minimumJump,
   std::size_t first, std::vector<Segment2>& segments)
@@ -97,10 +157,19 @@ void DropFaintShadows(const SceneTopology& topology, const Scene& scene, int rec
     {
       const Vec3 mid = frame.To3D({ 0.5 * (s.A[0] + s.B[0]), 0.5 * (s.A[1] + s.B[1]) });
       const double fs = FormFactor(topology, rec, mid, s.SourceId, false);
-      double fo = s.OccluderA >= 0 ? FormFactor(topology, rec, mid, s.OccluderA, true) : fs;
-      if (s.OccluderB >= 0)
+      double fo = fs;
+      for (const int occluder : { s.OccluderA, s.OccluderB })
       {
-        fo = std::min(fo, FormFactor(topology, rec, mid, s.OccluderB, true));
+        if (occluder >= 0)
+        {
+          // The whole object's, not the face's: a face seen edge-on may
+          // bound a large object's shadow.
+          const int c = topology.Polygons[occluder].Component;
+          const Vec3& centre = topology.ComponentCentre[c];
+          fo = std::min(fo,
+            HiddenFormFactor(topology.Polygons[s.SourceId], centre, topology.ComponentRadius[c],
+              rec.N, Length(mid - centre)));
+        }
       }
       const double jump = JumpRadiance(scene, settings, s.SourceId) * std::min(fo, fs);
       keep = jump >= minimumJump;
@@ -112,19 +181,6 @@ void DropFaintShadows(const SceneTopology& topology, const Scene& scene, int rec
   }
   segments.resize(write);
 }
-
-namespace
-{
-
-// The largest cosine between `normal` and a direction within `halfAngle` of
-// unit direction `u`.
-double LargestCosine(const Vec3& normal, const Vec3& u, double halfAngle)
-{
-  const double angle = std::acos(std::max(-1.0, std::min(1.0, Dot(normal, u))));
-  return angle <= halfAngle ? 1.0 : std::max(0.0, std::cos(angle - halfAngle));
-}
-
-} // namespace
 
 double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double receiverRadius,
   bool emitsFromFront)
@@ -151,53 +207,6 @@ double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double
     cosines *= LargestCosine(p.N, u * -1.0, halfAngle);
   }
   return std::min(1.0, cosines * p.Area / (Pi * d * d));
-}
-
-namespace
-{
-
-double BoundingRadius(const PolygonData& p)
-{
-  double radius = 0.0;
-  for (const Vec3& v : p.V)
-  {
-    radius = std::max(radius, Length(v - p.Centroid));
-  }
-  return radius;
-}
-
-} // namespace
-
-double HiddenFormFactorBound(const PolygonData& shooter, const Vec3& occluderCentre,
-  double occluderRadius, const PolygonData& receiver)
-{
-  const double height = Dot(receiver.N, occluderCentre) - receiver.D - occluderRadius;
-  if (!(height > 0.0))
-  {
-    return 1.0;
-  }
-  const double shooterRadius = BoundingRadius(shooter);
-  const Vec3 between = shooter.Centroid - occluderCentre;
-  const double distance = Length(between);
-  const double gap = distance - occluderRadius - shooterRadius;
-  double receiverCosine = 1.0;
-  double shooterCosine = 1.0;
-  if (gap > 0.0)
-  {
-    const Vec3 u = between * (1.0 / distance);
-    const double halfAngle = std::asin(std::min(1.0, (occluderRadius + shooterRadius) / distance));
-    receiverCosine = LargestCosine(receiver.N, u, halfAngle);
-    shooterCosine = LargestCosine(shooter.N, u * -1.0, halfAngle);
-  }
-  // The occluder's sphere seen from the plane: a cap of half-angle a with
-  // sin a = radius / distance; its projected solid angle over pi is at most
-  // sin^2 a, and at most 2 (1 - cos a) times the largest cosine.
-  const double sine = std::min(1.0, occluderRadius / (height + occluderRadius));
-  const double cap = std::min(
-    sine * sine, 2.0 * receiverCosine * (1.0 - std::sqrt(std::max(0.0, 1.0 - sine * sine))));
-  const double length = height + std::max(0.0, gap);
-  const double hidden = receiverCosine * shooterCosine * shooter.Area / (Pi * length * length);
-  return std::min({ 1.0, cap, hidden });
 }
 
 } // namespace detail

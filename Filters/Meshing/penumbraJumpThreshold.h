@@ -2,9 +2,9 @@
 /**
  * @file penumbraJumpThreshold.h
  * @brief The importance of a shadow boundary for DiscontinuityMeshSettings::
- * JumpThreshold: its estimated radiance jump Ls min(F_occluder, F_shooter)
+ * JumpThreshold: its estimated radiance jump Ls min(F_shooter, F_hidden)
  * relative to the receiver's largest unoccluded direct radiance, and the
- * bound that skips whole wedges which cannot reach the threshold. Private.
+ * bounds that skip whole wedges which cannot reach the threshold. Private.
  *
  * Design notes: Documentation/design/meshing.md
  */
@@ -33,7 +33,8 @@ double MinimumJump(const SceneTopology& topology, const Scene& scene, int receiv
   const std::vector<int>& shooters, const DiscontinuityMeshSettings& settings);
 
 /// Remove from segments[first, end) the shadow boundaries whose estimated
-/// jump at their midpoint is below `minimumJump` (nothing when it is < 0).
+/// jump at their midpoint, Ls min(F_S, HiddenFormFactor of each occluding
+/// object), is below `minimumJump` (nothing when it is < 0).
 void DropFaintShadows(const SceneTopology& topology, const Scene& scene, int receiverId,
   const DiscontinuityMeshSettings& settings, const ReceiverFrame& frame, double minimumJump,
   std::size_t first, std::vector<Segment2>& segments);
@@ -47,21 +48,24 @@ void DropFaintShadows(const SceneTopology& topology, const Scene& scene, int rec
 double FormFactorBound(const PolygonData& p, const PolygonData& receiver, double receiverRadius,
   bool emitsFromFront);
 
-/// An upper bound, over every point of `receiver`, of the form factor of the
-/// part of `shooter` that an occluder inside the sphere (`occluderCentre`,
-/// `occluderRadius`) hides: the largest jump (over Ls) its shadow
-/// boundaries can carry. Every hidden ray runs from the receiver's plane
-/// through the occluder's sphere to the shooter, so its length is at least
-/// the sphere's height above the plane plus the gap between the sphere and
-/// the shooter's, its direction lies in the cone between the two spheres
-/// (which bounds both cosines), and its solid angle is within the sphere's
-/// as seen from the plane. The sphere is the whole connected object's (a
-/// finely triangulated object hides as much as one big polygon would).
+/// An upper bound of the form factor of the part of `shooter` that an
+/// object inside the sphere (`centre`, `radius`) can hide from a point at
+/// distance `reach` from the centre whose normal is `receiverNormal`: the
+/// sphere's projected solid angle over pi, (radius / reach)^2, and the
+/// shooter's form factor over rays at least reach - radius + gap long (gap:
+/// between the sphere and the shooter's bounding sphere) whose directions
+/// lie in the cone between the two spheres, which bounds both cosines. It
+/// is the object's, not one face's: a face seen edge-on may bound a large
+/// object's shadow. 1 when the point is inside the sphere.
+double HiddenFormFactor(const PolygonData& shooter, const Vec3& centre, double radius,
+  const Vec3& receiverNormal, double reach);
+
+/// HiddenFormFactor bounded over every point of `receiver`'s plane (whose
+/// distance from the centre is at least the centre's height over it).
 /// Unlike FormFactorBound it stays tight for receivers much larger than the
-/// distances involved (a floor under many lights). 1 when the sphere
-/// reaches the receiver's plane.
-double HiddenFormFactorBound(const PolygonData& shooter, const Vec3& occluderCentre,
-  double occluderRadius, const PolygonData& receiver);
+/// distances involved (a floor under many lights).
+double HiddenFormFactorBound(const PolygonData& shooter, const Vec3& centre, double radius,
+  const PolygonData& receiver);
 
 } // namespace detail
 } // namespace penumbra

@@ -215,9 +215,8 @@ void ShadowEvents::ExcludeVertex(int c, std::vector<int>& exclude) const
 
 // With a jump threshold, a wedge is not traced when even an upper bound of
 // the jump its pieces would get is below the minimum: the jump at a point
-// x of R is Ls min(F_occluders(x), F_S(x)) (see DropFaintShadows), and a
-// form factor is bounded by FormFactorBound; the part of S an occluding
-// object hides, by HiddenFormFactorBound.
+// x of R is Ls min(F_S(x), F_hidden(x)) (see DropFaintShadows), bounded
+// over R by FormFactorBound and HiddenFormFactorBound.
 bool ShadowEvents::Faint(int occluderA, int occluderB) const
 {
   if (!(this->MinimumJump >= 0.0 && this->Settings.CullWedges))
@@ -232,7 +231,6 @@ bool ShadowEvents::Faint(int occluderA, int occluderB) const
   {
     if (k >= 0)
     {
-      bound = std::min(bound, FormFactorBound(polygons[k], this->Rec, receiverRadius, false));
       const int component = polygons[k].Component;
       bound = std::min(bound,
         HiddenFormFactorBound(shooter, this->Topology.ComponentCentre[component],
