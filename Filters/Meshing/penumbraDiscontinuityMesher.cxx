@@ -7,6 +7,7 @@
 
 #include "penumbraConstraintMerging.h"
 #include "penumbraContacts.h"
+#include "penumbraExactEvaluator.h"
 #include "penumbraCovers.h"
 #include "penumbraJumpThreshold.h"
 #include "penumbraMath.h"
@@ -63,6 +64,7 @@ struct DiscontinuityMesher::Internals
   std::shared_ptr<const PreparedScene> Prepared; // shared with the solve's other stages
   const Scene& ValidScene;
   const OccluderSet& Occluders;
+  const ExactEvaluator Evaluator; ///< visible light, for the jump threshold's reference
   detail::SceneTopology Topology;
   /// (surface, emitted power) of every surface with positive power, and their
   /// total: computed once, as every receiver selects its shooters.
@@ -85,6 +87,7 @@ DiscontinuityMesher::Internals::Internals(std::shared_ptr<const PreparedScene> p
   : Prepared(std::move(prepared))
   , ValidScene(Prepared->GetScene())
   , Occluders(*Prepared->GetOccluders())
+  , Evaluator(Prepared)
 {
   const Scene& scene = this->ValidScene;
   this->Topology.Build(scene);
@@ -254,7 +257,8 @@ std::vector<detail::Segment2> DiscontinuityMesher::Internals::Boundaries(int rec
   // over the receiver (sum over shooters). Shadows whose jump cannot reach
   // JumpThreshold times it are not even traced (see ShadowEvents::Faint).
   const double minimumJump =
-    detail::MinimumJump(this->Topology, this->ValidScene, receiverId, shooters, settings);
+    detail::MinimumJump(
+      this->Topology, this->ValidScene, this->Evaluator, receiverId, shooters, settings);
   const detail::PolygonData& receiver = this->Topology.Polygons[receiverId];
   double receiverRadius = 0.0;
   for (const Vec3& v : receiver.V)

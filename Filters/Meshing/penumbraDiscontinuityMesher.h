@@ -112,8 +112,9 @@ struct DiscontinuityMeshSettings
   /// penumbraCovers.h). [true]
   bool Contacts = true;
   /// Drop shadow boundaries whose estimated radiance jump, relative to the
-  /// receiver's largest unoccluded direct radiance, is below this. [0] = keep
-  /// all; in [0, 1]. Contact lines are always kept.
+  /// largest direct radiance the receiver gets (with visibility, at sample
+  /// points), is below this. [0] = keep all; in [0, 1]. Contact lines and
+  /// the line of a shooter's own plane are always kept.
   double JumpThreshold = 0.0;
   /// Distance (relative to the scene size) within which an edge lying in a
   /// receiver's plane is a contact. [1e-6], in [0, 1e-2].

@@ -2,6 +2,7 @@
 // Estimated radiance jumps of shadow boundaries, and their bounds.
 #include "penumbraJumpThreshold.h"
 
+#include "penumbraExactEvaluator.h"
 #include "penumbraFormFactor.h"
 #include "penumbraMath.h"
 
@@ -49,8 +50,9 @@ double JumpRadiance(const Scene& scene, const DiscontinuityMeshSettings& setting
   return scene.Surfaces[shooter].Emission.Mean();
 }
 
-double MinimumJump(const SceneTopology& topology, const Scene& scene, int receiverId,
-  const std::vector<int>& shooters, const DiscontinuityMeshSettings& settings)
+double MinimumJump(const SceneTopology& topology, const Scene& scene,
+  const ExactEvaluator& evaluator, int receiverId, const std::vector<int>& shooters,
+  const DiscontinuityMeshSettings& settings)
 {
   if (!(settings.JumpThreshold > 0.0))
   {
@@ -61,22 +63,40 @@ double MinimumJump(const SceneTopology& topology, const Scene& scene, int receiv
   for (const Vec3& v : rec.V)
   {
     samples.push_back(v + 0.05 * (rec.Centroid - v));
+    samples.push_back(v + 0.5 * (rec.Centroid - v));
   }
-  double reference = 0.0;
+  double unoccluded = 0.0;
+  double visible = 0.0;
+  VisibilityWorkspace workspace;
   for (const Vec3& x : samples)
   {
-    double sum = 0.0;
+    double unoccludedSum = 0.0;
+    double visibleSum = 0.0;
     for (int s : shooters)
     {
-      if (s != receiverId)
+      if (s == receiverId)
       {
-        sum += JumpRadiance(scene, settings, s) * FormFactor(topology, rec, x, s, false);
+        continue;
+      }
+      const double radiance = JumpRadiance(scene, settings, s);
+      const double f = FormFactor(topology, rec, x, s, false);
+      if (f > 0.0)
+      {
+        unoccludedSum += radiance * f;
+        visibleSum += radiance * evaluator.FormFactor(x, rec.N, receiverId, s, workspace);
       }
     }
-    reference = std::max(reference, sum);
+    unoccluded = std::max(unoccluded, unoccludedSum);
+    visible = std::max(visible, visibleSum);
   }
-  return reference > 0.0 ? settings.JumpThreshold * reference
-                         : std::numeric_limits<double>::infinity();
+  if (!(unoccluded > 0.0))
+  {
+    return std::numeric_limits<double>::infinity(); // no direct light: no shadow
+  }
+  // The light the receiver really gets (an occluded light casts no jump
+  // worth comparing with), sampled: a lit spot between the samples makes the
+  // reference lower, which only keeps more boundaries.
+  return settings.JumpThreshold * visible;
 }
 
 namespace
@@ -153,7 +173,10 @@ void DropFaintShadows(const SceneTopology& topology, const Scene& scene, int rec
   {
     const Segment2& s = segments[k];
     bool keep = true;
-    if (s.SourceId >= 0 && s.Order > 0)
+    // The line where the shooter's own plane crosses R (no occluder) is kept:
+    // the shooter is seen edge-on there, so no jump estimate at the line
+    // itself says how fast its light rises beside it.
+    if (s.SourceId >= 0 && s.Order > 0 && s.OccluderA >= 0)
     {
       const Vec3 mid = frame.To3D({ 0.5 * (s.A[0] + s.B[0]), 0.5 * (s.A[1] + s.B[1]) });
       const double fs = FormFactor(topology, rec, mid, s.SourceId, false);

@@ -20,6 +20,8 @@
 
 namespace penumbra
 {
+class ExactEvaluator;
+
 namespace detail
 {
 
@@ -27,10 +29,15 @@ namespace detail
 double JumpRadiance(const Scene& scene, const DiscontinuityMeshSettings& settings, int shooter);
 
 /// The jump below which shadows on receiver `receiverId` are dropped:
-/// JumpThreshold times the largest unoccluded direct radiance over the
-/// receiver from `shooters` (infinite when that is 0); -1 without threshold.
-double MinimumJump(const SceneTopology& topology, const Scene& scene, int receiverId,
-  const std::vector<int>& shooters, const DiscontinuityMeshSettings& settings);
+/// JumpThreshold times the largest direct radiance from `shooters` with
+/// visibility (exact form factors) at sample points of the receiver (its
+/// centroid, points near its vertices and halfway to them); infinite when
+/// the receiver gets no unoccluded light; -1 without threshold. Not the
+/// unoccluded radiance: a light hidden by a baffle would make the shadows
+/// of the light the receiver does get look faint.
+double MinimumJump(const SceneTopology& topology, const Scene& scene,
+  const ExactEvaluator& evaluator, int receiverId, const std::vector<int>& shooters,
+  const DiscontinuityMeshSettings& settings);
 
 /// Remove from segments[first, end) the shadow boundaries whose estimated
 /// jump at their midpoint, Ls min(F_S, HiddenFormFactor of each occluding

@@ -132,10 +132,11 @@ public:
   ///@{
   /**
    * Drop shadow boundaries whose estimated radiance jump, relative to the
-   * receiver's largest unoccluded direct radiance, is below this. Default 0
-   * (keep all), range [0, 1]. Contact lines are always kept. With CullWedges,
-   * wedges whose jump is certainly below it are not traced (nor counted in
-   * `SegmentsGenerated`).
+   * largest direct radiance the receiver gets (with visibility, at sample
+   * points), is below this. Default 0 (keep all), range [0, 1]. Contact
+   * lines and the line of a shooter's own plane are always kept. With
+   * CullWedges, wedges whose jump is certainly below it are not traced (nor
+   * counted in `SegmentsGenerated`).
    */
   vtkSetClampMacro(JumpThreshold, double, 0.0, 1.0);
   vtkGetMacro(JumpThreshold, double);

@@ -139,7 +139,7 @@ public:
   ///@{
   /**
    * Shadow boundaries whose estimated radiance jump is below this fraction
-   * of the receiver's largest unoccluded direct radiance are not meshed
+   * of the largest direct radiance the receiver gets are not meshed
    * (vtkPenumbraDiscontinuityMesher::JumpThreshold). Default 0 (keep all),
    * range [0, 1].
    */

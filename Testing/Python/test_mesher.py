@@ -94,7 +94,7 @@ def test_minimum_angle_refines_and_jump_threshold_drops():
     coarse, _ = mesh("seven")
     fine, _ = mesh("seven", MinimumAngle=20.0)
     assert fine.GetNumberOfPolys() > coarse.GetNumberOfPolys()
-    thresholded, _ = mesh("seven", JumpThreshold=0.2)
+    thresholded, _ = mesh("seven", JumpThreshold=0.5)
     field = thresholded.GetFieldData()
     assert field.GetArray("SegmentsKept").GetValue(0) < field.GetArray("SegmentsGenerated").GetValue(0)
 
@@ -277,3 +277,55 @@ def test_covers_mesh_the_receiver_under_a_plate(height, covers):
     loops = [0.0] + [height * 4 ** k for k in range(12) if height * 4 ** k < 0.25]
     assert np.allclose(sorted(set(np.round(distance, 9))), loops)
     assert cover.sum() >= 4 * len(loops) and count >= 4 * len(loops)
+
+
+def box_faces(lo, hi):
+    """The six faces of an axis-aligned box, counter-clockwise seen from outside."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    return [[(x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)],
+            [(x1, y0, z0), (x1, y1, z0), (x1, y1, z1), (x1, y0, z1)],
+            [(x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1)],
+            [(x0, y1, z0), (x0, y1, z1), (x1, y1, z1), (x1, y1, z0)],
+            [(x0, y0, z0), (x0, y1, z0), (x1, y1, z0), (x1, y0, z0)],
+            [(x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]]
+
+
+def facing_down(cx, height, cz, half):
+    return [(cx - half, height, cz - half), (cx + half, height, cz - half),
+            (cx + half, height, cz + half), (cx - half, height, cz + half)]
+
+
+def test_jump_threshold_judges_shadows_by_the_light_received():
+    # A floor under a strong light A hidden by a black baffle, lit by a weak
+    # light B below the baffle. B's shadows are the floor's whole light: a
+    # box's must stay at JumpThreshold 0.05 (judged against A's unoccluded
+    # light they would look faint), while a 2 cm cube high up hides at most
+    # (radius / distance)^2 ~ 2e-4 of the sky against B's ~0.013: its lines go.
+    from penumbra.generators import scene_from_polygons
+
+    grey, black = (0.5, 0.5, 0.5), (0.0, 0.0, 0.0)
+    polygons = [{"vertices": [(-2, 0, -2), (-2, 0, 2), (2, 0, 2), (2, 0, -2)],
+                 "reflectance": grey, "emission": black},
+                {"vertices": facing_down(0, 2.0, 0, 3.0), "reflectance": black, "emission": black},
+                {"vertices": facing_down(0, 2.5, 0, 0.25), "reflectance": black,
+                 "emission": (100.0, 100.0, 100.0)},
+                {"vertices": facing_down(0, 1.5, 0, 0.15), "reflectance": black,
+                 "emission": (1.0, 1.0, 1.0)}]
+    light_b = 3
+    for face in box_faces((-0.6, 0.4, -0.2), (-0.2, 0.8, 0.2)) + \
+            box_faces((0.4, 1.0, 0.0), (0.42, 1.02, 0.02)):
+        polygons.append({"vertices": face, "reflectance": grey, "emission": black})
+    scene = scene_from_polygons(polygons)
+
+    def floor_lines(threshold):
+        lines, _ = boundary_lines(scene, JumpThreshold=threshold)
+        found = [v for (surface, order, source), v in lines.items()
+                 if surface == 0 and order > 0 and source == light_b]
+        mids = np.concatenate(found).mean(axis=1) if found else np.zeros((0, 3))
+        return (mids[:, 0] < 0).sum(), (mids[:, 0] > 0.5).sum()
+
+    box_all, cube_all = floor_lines(0.0)
+    assert box_all > 0 and cube_all > 0
+    box_kept, cube_kept = floor_lines(0.05)
+    assert box_kept == box_all
+    assert cube_kept == 0
