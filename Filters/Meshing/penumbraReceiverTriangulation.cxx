@@ -358,8 +358,12 @@ struct Stage
       {
         if (f->info().State == 3)
         {
-          out.RemovedArea += TriangleArea3(vertex3[vertexOf(f->vertex(0))],
-            vertex3[vertexOf(f->vertex(1))], vertex3[vertexOf(f->vertex(2))]);
+          // Indices first: vertexOf may grow vertex3, which would invalidate
+          // a reference taken into it before the next call.
+          const int a = vertexOf(f->vertex(0));
+          const int b = vertexOf(f->vertex(1));
+          const int c = vertexOf(f->vertex(2));
+          out.RemovedArea += TriangleArea3(vertex3[a], vertex3[b], vertex3[c]);
         }
         continue;
       }
