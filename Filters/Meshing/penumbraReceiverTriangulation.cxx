@@ -643,12 +643,29 @@ RefinableTriangulation::RefinableTriangulation(const std::vector<P2>& vertices,
   }
 
   // Kept cells: flood fill across unconstrained edges from the faces holding
-  // the kept triangles' centroids.
+  // the kept triangles' centroids. A cell that reaches the far bounding
+  // square lies outside the receiver (the centroid of a sliver along the
+  // outline can round across it): it is not kept, since its corners have no
+  // vertex id.
   for (Face f : in.Cdt.all_face_handles())
   {
     f->info().Kept = false;
   }
-  std::queue<Face> queue;
+  auto outside = [&](Face f) {
+    if (in.Cdt.is_infinite(f))
+    {
+      return true;
+    }
+    for (int i = 0; i < 3; ++i)
+    {
+      if (f->vertex(i)->info().Id == -2)
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  std::vector<Face> cell;
   Face previous;
   for (const auto& seed : keptSeeds)
   {
@@ -660,26 +677,44 @@ RefinableTriangulation::RefinableTriangulation(const std::vector<P2>& vertices,
     // rectangle's two triangles lie on its other diagonal): both faces of
     // that edge are in the seed's cell.
     if (!(lt == Internals::CDT::FACE || (lt == Internals::CDT::EDGE && !f->is_constrained(li))) ||
-      in.Cdt.is_infinite(f) || f->info().Kept)
+      f->info().Kept)
     {
       continue;
     }
-    f->info().Kept = true;
-    queue.push(f);
-  }
-  while (!queue.empty())
-  {
-    Face f = queue.front();
-    queue.pop();
-    for (int i = 0; i < 3; ++i)
+    if (outside(f))
     {
-      Face g = f->neighbor(i);
-      if (f->is_constrained(i) || g->info().Kept || in.Cdt.is_infinite(g))
+      ++in.Irregularities;
+      continue;
+    }
+    cell.assign(1, f);
+    f->info().Kept = true;
+    bool open = false;
+    for (std::size_t next = 0; next < cell.size(); ++next)
+    {
+      const Face c = cell[next];
+      for (int i = 0; i < 3; ++i)
       {
-        continue;
+        Face g = c->neighbor(i);
+        if (c->is_constrained(i) || g->info().Kept)
+        {
+          continue;
+        }
+        if (outside(g))
+        {
+          open = true;
+          continue;
+        }
+        g->info().Kept = true;
+        cell.push_back(g);
       }
-      g->info().Kept = true;
-      queue.push(g);
+    }
+    if (open)
+    {
+      for (Face c : cell)
+      {
+        c->info().Kept = false;
+      }
+      ++in.Irregularities;
     }
   }
 }

@@ -13,6 +13,7 @@
 #include "penumbraAdaptiveSampler.h"
 #include "penumbraDiscontinuityMesher.h"
 #include "penumbraExactEvaluator.h"
+#include "penumbraReceiverTriangulation.h"
 #include "penumbraReconstruction.h"
 #include "penumbraScene.h"
 #include "penumbraSceneLibrary.h"
@@ -1084,6 +1085,50 @@ PENUMBRA_TEST(TestZeroMinimumFeatureSizeStops)
   PENUMBRA_EXPECT(narrowest > 1e-10);
   PENUMBRA_EXPECT(!r.Statistics.BudgetReached);
   PENUMBRA_EXPECT(r.Statistics.Passes < settings.MaximumPasses);
+}
+
+//------------------------------------------------------------------------------
+// A seed that rounds just outside the outline (the centroid of a sliver along
+// it) must not keep the region between the outline and the triangulation's
+// far bounding square: its corners have no vertex id, and a point copied from
+// one indexed every per-vertex array out of bounds.
+PENUMBRA_TEST(TestSeedOutsideTheOutline)
+{
+  const std::vector<P2> square = { { 0.0, 0.0 }, { 1.0, 0.0 }, { 1.0, 1.0 }, { 0.0, 1.0 } };
+  std::vector<detail::RefinableSegment> outline;
+  for (int k = 0; k < 4; ++k)
+  {
+    detail::RefinableSegment segment;
+    segment.A = k;
+    segment.B = (k + 1) % 4;
+    segment.Order = -1;
+    outline.push_back(segment);
+  }
+  detail::RefinableTriangulation triangulation(
+    square, outline, { { 0.5, 0.5 }, { 0.5, -1e-9 }, { 1.0 + 1e-9, 0.5 } });
+  detail::RefinableSnapshot snapshot;
+  triangulation.Extract(snapshot);
+  const int vertices = static_cast<int>(snapshot.Vertices.size());
+  bool valid = true;
+  for (const int vertex : snapshot.PointVertex)
+  {
+    valid = valid && vertex >= 0 && vertex < vertices;
+  }
+  PENUMBRA_EXPECT(valid);
+  if (!valid)
+  {
+    return;
+  }
+  double area = 0.0;
+  for (const auto& t : snapshot.Triangles)
+  {
+    const P2& a = snapshot.Vertices[snapshot.PointVertex[t[0]]];
+    const P2& b = snapshot.Vertices[snapshot.PointVertex[t[1]]];
+    const P2& c = snapshot.Vertices[snapshot.PointVertex[t[2]]];
+    area += 0.5 * Cross2(b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]);
+  }
+  PENUMBRA_EXPECT_NEAR(area, 1.0, 1e-12);
+  PENUMBRA_EXPECT(triangulation.GetIrregularities() >= 1);
 }
 
 //------------------------------------------------------------------------------
