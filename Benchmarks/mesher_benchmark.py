@@ -3,8 +3,9 @@
 """Benchmark of vtkPenumbraDiscontinuityMesher on one thread.
 
 For the built-in Cornell box, seven occluders and venetian blind, and for
-generated rooms full of boxes (penumbra.generators.box_room) of 1,000 and
-10,000 polygons (20,000 with --large), run the mesher with its defaults (every
+generated rooms full of boxes (penumbra.generators.box_room, or with --scene
+furnished_room the furnished interior) of 1,000 and 10,000 polygons (--sizes;
+20,000 with --large), run the mesher with its defaults (every
 light is a shooter) on ONE thread and time it: the median of 5 runs for scenes
 under 1,000 polygons, of 3 runs otherwise (wall-clock time of the filter's
 update; the process CPU time is reported too, as the machine may be shared).
@@ -14,7 +15,7 @@ kept, contact segments, constraints, failed constraints, triangles, wedges
 traced, time median/min/max, CPU time, time per segment), whether the Cornell
 target (< 0.2 s) is met, and the growth exponents of the time with respect to
 the number of segments generated, of polygons and of wedges (least-squares
-slopes on log-log axes, over all scenes and over the box rooms alone). Writes the table as
+slopes on log-log axes, over all scenes and over the generated rooms alone). Writes the table as
 Markdown and CSV and a log-log chart (PNG) of time against segments into
 --out (default: build/benchmarks of the source tree).
 
@@ -54,9 +55,11 @@ def parse_args(argv):
     parser.add_argument("--out", default=os.path.join(source_dir(), "build", "benchmarks"),
                         help="output folder (default: %(default)s)")
     parser.add_argument("--sizes", type=int, nargs="*", default=[1000, 10000],
-                        help="polygon counts of the generated box rooms (default: 1000 10000)")
+                        help="polygon counts of the generated rooms (default: 1000 10000)")
     parser.add_argument("--large", action="store_true", help="also a 20,000-polygon room")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the box rooms")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the generated rooms")
+    parser.add_argument("--scene", default="box_room", choices=("box_room", "furnished_room"),
+                        help="generator of the rooms (default: %(default)s)")
     parser.add_argument("--threads", type=int, default=1,
                         help="vtkSMPTools threads (default 1: the one-core numbers)")
     parser.add_argument("--runs", type=int, default=0,
@@ -71,14 +74,15 @@ def parse_args(argv):
 def scenes(args):
     """(name, scene vtkPolyData, generated?) for every benchmarked scene."""
     import penumbra
-    from penumbra.generators import box_room
+    from penumbra import generators
 
     if not args.no_builtin:
         for name in BUILTIN:
             yield name, penumbra.load_scene(name), False
     sizes = list(args.sizes) + ([20000] if args.large and 20000 not in args.sizes else [])
+    generator = getattr(generators, args.scene)
     for size in sizes:
-        yield "box_room(%d)" % size, box_room(size, seed=args.seed), True
+        yield "%s(%d)" % (args.scene, size), generator(size, seed=args.seed), True
 
 
 def shooter_count(scene):
@@ -133,7 +137,7 @@ def exponents(rows):
     result, lines = {}, []
     usable = [r for r in rows if r["SegmentsGenerated"] > 0 and r["median"] > 0]
     generated = [r for r in usable if r["generated"]]
-    for label, subset in (("all scenes", usable), ("box rooms", generated)):
+    for label, subset in (("all scenes", usable), ("generated rooms", generated)):
         if len(subset) < 2:
             continue
         for key, name in (("SegmentsGenerated", "segments generated"), ("polygons", "polygons"),
