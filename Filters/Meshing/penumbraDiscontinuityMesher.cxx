@@ -253,9 +253,10 @@ std::vector<detail::Segment2> DiscontinuityMesher::Internals::Boundaries(int rec
                    [&](int s) { return !MeshesOn(settings, s, receiverId); }),
     shooters.end());
   const std::size_t firstShadow = segments.size();
-  // The jump threshold's reference: the largest unoccluded direct radiance
-  // over the receiver (sum over shooters). Shadows whose jump cannot reach
-  // JumpThreshold times it are not even traced (see ShadowEvents::Faint).
+  // The jump threshold's reference: the largest direct radiance the receiver
+  // gets with visibility (sum over shooters, at a few points). Shadows whose
+  // jump cannot reach JumpThreshold times it are not even traced (see
+  // ShadowEvents::Faint).
   const double minimumJump =
     detail::MinimumJump(
       this->Topology, this->ValidScene, this->Evaluator, receiverId, shooters, settings);
