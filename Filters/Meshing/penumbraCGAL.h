@@ -33,12 +33,16 @@ namespace penumbra
 namespace cgal
 {
 
+/// The vertex id of the refinable triangulation's far bounding square's
+/// corners: never part of the output.
+constexpr int BoundingCornerId = -2;
+
 /// Per-vertex data: index of the known 3D point it stands for, or -1, and
 /// the refinable triangulation's vertex id.
 struct VertexInfo
 {
   int Known = -1;
-  int Id = -1; ///< vertex id in a RefinableTriangulation, or -1
+  int Id = -1; ///< vertex id in a RefinableTriangulation, -1, or BoundingCornerId
 };
 
 /// Per-face data used by the receiver triangulation.

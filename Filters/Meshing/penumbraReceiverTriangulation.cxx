@@ -581,7 +581,7 @@ RefinableTriangulation::RefinableTriangulation(const std::vector<P2>& vertices,
   for (int k = 0; k < 4; ++k)
   {
     const double sx = (k == 0 || k == 3) ? -4.0 : 4.0, sy = k < 2 ? -4.0 : 4.0;
-    in.Cdt.insert(Point(cx + sx * size, cy + sy * size))->info().Id = -2;
+    in.Cdt.insert(Point(cx + sx * size, cy + sy * size))->info().Id = cgal::BoundingCornerId;
   }
 
   // Vertices in spatial (Hilbert) order, each located from the previous one.
@@ -604,7 +604,7 @@ RefinableTriangulation::RefinableTriangulation(const std::vector<P2>& vertices,
   for (std::size_t i : order)
   {
     hint = in.Cdt.insert(points[i], hint == VertexHandle() ? Face() : hint->face());
-    if (hint->info().Id >= 0 || hint->info().Id == -2)
+    if (hint->info().Id >= 0 || hint->info().Id == cgal::BoundingCornerId)
     {
       ++in.Irregularities; // coincides with another vertex
     }
@@ -658,7 +658,7 @@ RefinableTriangulation::RefinableTriangulation(const std::vector<P2>& vertices,
     }
     for (int i = 0; i < 3; ++i)
     {
-      if (f->vertex(i)->info().Id == -2)
+      if (f->vertex(i)->info().Id == cgal::BoundingCornerId)
       {
         return true;
       }
