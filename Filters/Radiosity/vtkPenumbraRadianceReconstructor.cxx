@@ -20,6 +20,7 @@
 
 #include "penumbraReconstruction.h"
 #include "penumbraScene.h"
+#include "penumbraSliverRepair.h"
 
 #include <algorithm>
 #include <array>
@@ -68,6 +69,7 @@ struct SurfaceOutput
   std::vector<std::vector<int>> Lines;
   std::vector<int> LineOrders;
   std::vector<int> LineSources;
+  int RepairedSlivers = 0; ///< see penumbra::RepairSlivers
 };
 
 penumbra::Vec3 GetPoint(vtkPoints* points, vtkIdType id)
@@ -157,15 +159,26 @@ void ReconstructSurface(const SurfaceCells& cells, vtkPoints* points, vtkDataArr
     }
   }
 
+  // The projection into this frame can turn a sampler's slivers clockwise.
+  const penumbra::SliverRepairResult repair = penumbra::RepairSlivers(mesh);
+  out.RepairedSlivers = repair.GetNumberOfRepairs();
+  std::vector<std::size_t> lineOfEdge(repair.EdgeOrigin.size());
+  for (std::size_t e = 0; e < lineOfEdge.size(); ++e)
+  {
+    lineOfEdge[e] = keptLines[static_cast<std::size_t>(repair.EdgeOrigin[e])];
+  }
+  keptLines = std::move(lineOfEdge);
+
   penumbra::Reconstruction reconstruction;
   reconstruction.Build(mesh, options);
 
   penumbra::ErrorProbes probes;
   for (std::size_t t = 0; t < cells.Residuals.size(); ++t)
   {
-    if (cells.Residuals[t][0] >= 0.0) // negative: the triangle was not probed
+    const int repaired = repair.TriangleMap[t];
+    if (cells.Residuals[t][0] >= 0.0 && repaired >= 0) // negative: the triangle was not probed
     {
-      probes.Add(static_cast<int>(t), cells.Residuals[t].data(), 3);
+      probes.Add(repaired, cells.Residuals[t].data(), 3);
     }
   }
 
@@ -448,6 +461,24 @@ int vtkPenumbraRadianceReconstructor::Execute(
   {
     vtkErrorMacro(<< error);
     return 0;
+  }
+  int slivers = 0, sliverSurfaces = 0, firstSliverSurface = -1;
+  for (std::size_t s = 0; s < results.size(); ++s)
+  {
+    if (results[s].RepairedSlivers > 0)
+    {
+      slivers += results[s].RepairedSlivers;
+      firstSliverSurface = sliverSurfaces++ == 0 ? ids[s] : firstSliverSurface;
+    }
+  }
+  if (slivers > 0)
+  {
+    std::ostringstream message;
+    message << "repaired " << slivers
+            << " sample triangle(s) with zero or negative area in their surface's plane "
+            << "(slivers within rounding of an edge) on " << sliverSurfaces
+            << " surface(s), the first surface " << firstSliverSurface;
+    this->Warn(message.str());
   }
   penumbra::SurfaceMaterials materials;
   const bool known = penumbra::GetSurfaceMaterials(input->GetFieldData(), materials) &&
