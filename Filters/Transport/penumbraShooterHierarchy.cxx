@@ -214,20 +214,22 @@ Side SideOf(const Node& node, const Vec3& x, double spread)
 RGB Expansion(const Vec3& m, const RGB& power, const Vec3 dipole[3], const Symmetric quadrupole[3],
   const Vec3& d, const Vec3& n)
 {
-  const double r2 = SquaredLength(d);
+  // One division: the powers of 1 / s from its reciprocal.
+  const double inverse = 1.0 / SquaredLength(d);
+  const double inverse2 = inverse * inverse;
+  const double inverse3 = inverse2 * inverse;
   const double a = Dot(n, d);
   const double b = -Dot(m, d);
+  const double ab = a * b;
   const Vec3 u = n * b - m * a;
-  const double s2 = r2 * r2;
-  const double s3 = s2 * r2;
-  const double k = a * b / s2;
-  const Vec3 gradient = u / s2 - d * (4.0 * a * b / s3);
+  const double k = ab * inverse2;
+  const Vec3 gradient = u * inverse2 - d * (4.0 * ab * inverse3);
   // The Hessian, once for the three channels (M_c : H each).
   Symmetric hessian;
-  hessian.AddOuter(n, m, -2.0 / s2);
-  hessian.AddOuter(u, d, -8.0 / s3);
-  hessian.AddOuter(d, d, 24.0 * a * b / (s2 * s2));
-  const double diagonal = -4.0 * a * b / s3;
+  hessian.AddOuter(n, m, -2.0 * inverse2);
+  hessian.AddOuter(u, d, -8.0 * inverse3);
+  hessian.AddOuter(d, d, 24.0 * ab * inverse3 * inverse);
+  const double diagonal = -4.0 * ab * inverse3;
   hessian.XX += diagonal;
   hessian.YY += diagonal;
   hessian.ZZ += diagonal;
