@@ -570,6 +570,71 @@ int CastShadows(const OccluderSet& set, int id, const QueryFrame& q, VisibilityW
 /// Shaft candidate lists longer than this are replaced by the BVH traversal (see Evaluate).
 constexpr int LongCandidateList = 64;
 
+/**
+ * The tile cache. A query without a candidate list traverses the occluders'
+ * BVH with its pyramid; on a large scene that traversal, repeated for every
+ * point and every light, costs more than the shadows. Instead the points of
+ * a square tile of the receiver's plane (its diameter / TilesPerDiameter on
+ * a side) share one traversal with the shaft from the tile to the shooter,
+ * and each point filters that list with its own pyramid. That keeps every
+ * occluder the traversal finds, and at most a few more that miss the
+ * pyramid (the traversal's capsule test on a node's box also drops some
+ * that the test on their own box keeps), which cast nothing. A tile list longer than LongTileList is
+ * dropped for the traversal; the cache is emptied at MaximumTiles entries.
+ */
+constexpr double TilesPerDiameter = 16.0;
+constexpr std::size_t LongTileList = 256;
+constexpr std::size_t MaximumTiles = 1u << 16;
+
+/// The candidate list of x's tile, or null where the traversal is used
+/// (x off the receiver's plane, n not its normal, a long list).
+const std::vector<int>* TileList(const OccluderSet& set, const Vec3& x, const Vec3& n,
+  int shooterId, int receiverId, VisibilityWorkspace& ws)
+{
+  if (receiverId < 0 || receiverId >= set.GetNumberOfPolygons())
+  {
+    return nullptr;
+  }
+  const PreparedPolygon& r = set.GetPolygon(receiverId);
+  const double tol = set.GetTolerance();
+  if (!r.Valid || !(std::abs(Dot(r.Normal, x) - r.Offset) <= tol) ||
+    !(Dot(n, r.Normal) >= 1.0 - 1e-12))
+  {
+    return nullptr;
+  }
+  const double size = r.Diameter / TilesPerDiameter;
+  const Vec3 d = x - r.Centroid;
+  const double i = std::floor(Dot(d, r.AxisU) / size);
+  const double j = std::floor(Dot(d, r.AxisV) / size);
+  if (!(std::abs(i) < 1e9 && std::abs(j) < 1e9))
+  {
+    return nullptr;
+  }
+  const VisibilityWorkspace::TileKey key{ set.GetIdentity(), receiverId, shooterId, static_cast<long long>(i),
+    static_cast<long long>(j) };
+  auto found = ws.Tiles.find(key);
+  if (found == ws.Tiles.end())
+  {
+    if (ws.Tiles.size() >= MaximumTiles)
+    {
+      ws.Tiles.clear();
+    }
+    const Vec3 corner = r.Centroid + r.AxisU * (i * size) + r.AxisV * (j * size);
+    const Vec3 tile[4] = { corner, corner + r.AxisU * size,
+      corner + r.AxisU * size + r.AxisV * size, corner + r.AxisV * size };
+    VisibilityWorkspace::TileEntry entry;
+    entry.Usable = set.TileCandidates(tile, shooterId, receiverId, entry.Candidates, ws.TileShaft) &&
+      entry.Candidates.size() <= LongTileList;
+    if (!entry.Usable)
+    {
+      entry.Candidates.clear();
+      entry.Candidates.shrink_to_fit();
+    }
+    found = ws.Tiles.emplace(key, std::move(entry)).first;
+  }
+  return found->second.Usable ? &found->second.Candidates : nullptr;
+}
+
 // Lambert's sum over the first `count` pieces.
 double LambertSum(const PieceBuffer& pieces, int count, const QueryFrame& q)
 {
@@ -648,6 +713,7 @@ double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shoote
   // point by point than the BVH traversal of the pyramid, which only visits
   // what is near it. Either way the same occluders meet the pyramid, and
   // they are sorted below, so the result does not depend on the choice.
+  const bool tiles = traverse; // no list given (a long one is traversed point by point)
   traverse = traverse || numberOfCandidates > LongCandidateList;
 
   if (left > 0 && (traverse || numberOfCandidates > 0))
@@ -665,7 +731,15 @@ double Evaluate(const OccluderSet& set, const Vec3& x, const Vec3& n, int shoote
           pieces.Points.data() + pieces.Starts[k], pieces.Sizes[k], pieces.Boxes.data() + 4 * k);
       }
       CompactPieces(pieces, pieces.Count); // computes the union of the boxes
-      if (traverse)
+      const std::vector<int>* tileList =
+        tiles ? TileList(set, x, n, shooterId, receiverId, ws) : nullptr;
+      if (tileList)
+      {
+        ws.Candidates.clear();
+        set.FilterCandidates(ws.Frustum, tileList->data(), static_cast<int>(tileList->size()),
+          shooterId, receiverId, ws.Candidates);
+      }
+      else if (traverse)
       {
         set.VolumeCandidates(ws.Frustum, shooterId, receiverId, ws.Candidates);
       }

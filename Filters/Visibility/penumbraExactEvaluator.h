@@ -46,8 +46,11 @@
 #include "penumbraScene.h"
 #include "penumbraVector.h"
 
-#include <utility>
+#include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace penumbra
@@ -88,6 +91,44 @@ struct VisibilityWorkspace
   std::vector<std::pair<double, int>> Order; ///< candidates sorted by solid angle
   CullingVolume Frustum;                     ///< pyramid of the current query
   long long ShadowCount = 0;                 ///< statistics: shadows subtracted so far
+
+  /// A square of a receiver's plane seen with one shooter (the tile cache).
+  struct TileKey
+  {
+    std::uint64_t Set; ///< OccluderSet::GetIdentity
+    int Receiver;
+    int Shooter;
+    long long I;
+    long long J;
+    bool operator==(const TileKey& o) const
+    {
+      return Set == o.Set && Receiver == o.Receiver && Shooter == o.Shooter && I == o.I &&
+        J == o.J;
+    }
+  };
+  struct TileKeyHash
+  {
+    std::size_t operator()(const TileKey& k) const
+    {
+      std::size_t h = std::hash<std::uint64_t>()(k.Set);
+      for (const long long v : { static_cast<long long>(k.Receiver),
+             static_cast<long long>(k.Shooter), k.I, k.J })
+      {
+        h ^= std::hash<long long>()(v) + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+      }
+      return h;
+    }
+  };
+  /// The occluders that may meet the pyramid of any point of a tile
+  /// (OccluderSet::TileCandidates); Usable is false for a list so long that
+  /// the traversal per point is cheaper.
+  struct TileEntry
+  {
+    bool Usable = false;
+    std::vector<int> Candidates;
+  };
+  std::unordered_map<TileKey, TileEntry, TileKeyHash> Tiles; ///< internal
+  CullingVolume TileShaft;                                    ///< scratch of TileCandidates
 };
 
 /**

@@ -5,6 +5,7 @@
 #include "penumbraMath.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -313,6 +314,8 @@ OccluderSet::OccluderSet(const Scene& scene)
 
 void OccluderSet::Build(const Scene& scene)
 {
+  static std::atomic<std::uint64_t> builds{ 0 };
+  this->Identity = ++builds;
   this->Polygons.clear();
   this->Pieces.clear();
   this->PieceVertices.clear();
@@ -583,47 +586,50 @@ void OccluderSet::FilterCandidates(const CullingVolume& volume, const int* ids, 
   }
 }
 
-bool OccluderSet::BuildShaft(int shooterId, int receiverId, CullingVolume& shaft) const
+namespace
 {
-  const PreparedPolygon& s = this->Polygons[shooterId];
-  const PreparedPolygon& r = this->Polygons[receiverId];
-  if (!s.Valid || !r.Valid)
-  {
-    return false;
-  }
-  const Vec3* sh = this->HullVertices.data() + s.FirstHullPoint;
-  const Vec3* rh = this->HullVertices.data() + r.FirstHullPoint;
-  const int ns = s.NumberOfHullPoints, nr = r.NumberOfHullPoints;
-  // The pair exchanges light only if part of the receiver is in front of the
-  // shooter and part of the shooter in front of the receiver.
-  double rFront = -std::numeric_limits<double>::max();
-  for (int k = 0; k < nr; ++k)
-  {
-    rFront = std::max(rFront, Dot(s.Normal, rh[k]) - s.Offset);
-  }
-  double sFront = -std::numeric_limits<double>::max();
-  for (int k = 0; k < ns; ++k)
-  {
-    sFront = std::max(sFront, Dot(r.Normal, sh[k]) - r.Offset);
-  }
-  if (rFront <= this->Tolerance || sFront <= this->Tolerance)
-  {
-    return false;
-  }
-  const double tol = this->Tolerance;
+
+/// One end of a shaft: a convex polygon (its hull) and its plane.
+struct ShaftEnd
+{
+  const Vec3* Hull;
+  int Count;
+  Vec3 Normal;
+  double Offset;
+  double Diameter;
+};
+
+/**
+ * The shaft between two convex polygons: the half-spaces `sideS` and
+ * `sideR` (usually their planes' fronts), the box of both and the faces of
+ * their convex hull (planes through an edge of one and a vertex of the
+ * other that have every point on one side), all loosened by `tol`. The
+ * offset of a face is the extreme value over all points, so each plane is a
+ * valid supporting plane whatever the rounding.
+ */
+void HullShaft(
+  const ShaftEnd& s, const ShaftEnd& r, const Plane& sideS, const Plane& sideR, double tol,
+  CullingVolume& shaft)
+{
+  const Vec3* sh = s.Hull;
+  const Vec3* rh = r.Hull;
+  const int ns = s.Count, nr = r.Count;
   shaft.Planes.clear();
   shaft.CapsuleRadius = -1.0;
-  shaft.Planes.push_back({ s.Normal, s.Offset + tol });
-  shaft.Planes.push_back({ r.Normal, r.Offset + tol });
-  shaft.BoxMin = Vec3(std::min(s.BoundsMin.X, r.BoundsMin.X) - tol,
-    std::min(s.BoundsMin.Y, r.BoundsMin.Y) - tol, std::min(s.BoundsMin.Z, r.BoundsMin.Z) - tol);
-  shaft.BoxMax = Vec3(std::max(s.BoundsMax.X, r.BoundsMax.X) + tol,
-    std::max(s.BoundsMax.Y, r.BoundsMax.Y) + tol, std::max(s.BoundsMax.Z, r.BoundsMax.Z) + tol);
-
-  // Faces of the convex hull of both polygons: planes through an edge of one
-  // hull and a vertex of the other that have every point on one side. The
-  // offset is the extreme value over all points, so each plane is a valid
-  // supporting plane whatever the rounding.
+  shaft.Planes.push_back(sideS);
+  shaft.Planes.push_back(sideR);
+  shaft.BoxMin = sh[0];
+  shaft.BoxMax = sh[0];
+  for (int k = 0; k < ns; ++k)
+  {
+    ExpandBox(shaft.BoxMin, shaft.BoxMax, sh[k]);
+  }
+  for (int k = 0; k < nr; ++k)
+  {
+    ExpandBox(shaft.BoxMin, shaft.BoxMax, rh[k]);
+  }
+  shaft.BoxMin -= Vec3(tol, tol, tol);
+  shaft.BoxMax += Vec3(tol, tol, tol);
   const double faceEps = 1e-9 * (s.Diameter + r.Diameter);
   auto addFaces = [&](const Vec3* a, int na, const Vec3* b, int nb) {
     for (int i = 0; i < na; ++i)
@@ -682,6 +688,73 @@ bool OccluderSet::BuildShaft(int shooterId, int receiverId, CullingVolume& shaft
   };
   addFaces(sh, ns, rh, nr);
   addFaces(rh, nr, sh, ns);
+}
+
+} // namespace
+
+bool OccluderSet::BuildShaft(int shooterId, int receiverId, CullingVolume& shaft) const
+{
+  const PreparedPolygon& s = this->Polygons[shooterId];
+  const PreparedPolygon& r = this->Polygons[receiverId];
+  if (!s.Valid || !r.Valid)
+  {
+    return false;
+  }
+  const Vec3* sh = this->HullVertices.data() + s.FirstHullPoint;
+  const Vec3* rh = this->HullVertices.data() + r.FirstHullPoint;
+  const int ns = s.NumberOfHullPoints, nr = r.NumberOfHullPoints;
+  // The pair exchanges light only if part of the receiver is in front of the
+  // shooter and part of the shooter in front of the receiver.
+  double rFront = -std::numeric_limits<double>::max();
+  for (int k = 0; k < nr; ++k)
+  {
+    rFront = std::max(rFront, Dot(s.Normal, rh[k]) - s.Offset);
+  }
+  double sFront = -std::numeric_limits<double>::max();
+  for (int k = 0; k < ns; ++k)
+  {
+    sFront = std::max(sFront, Dot(r.Normal, sh[k]) - r.Offset);
+  }
+  if (rFront <= this->Tolerance || sFront <= this->Tolerance)
+  {
+    return false;
+  }
+  const double tol = this->Tolerance;
+  HullShaft({ sh, ns, s.Normal, s.Offset, s.Diameter }, { rh, nr, r.Normal, r.Offset, r.Diameter },
+    { s.Normal, s.Offset + tol }, { r.Normal, r.Offset + tol }, tol, shaft);
+  return true;
+}
+
+bool OccluderSet::TileCandidates(const Vec3 tile[4], int shooterId, int receiverId,
+  std::vector<int>& candidates, CullingVolume& shaft) const
+{
+  candidates.clear();
+  const PreparedPolygon& s = this->Polygons[shooterId];
+  const PreparedPolygon& r = this->Polygons[receiverId];
+  if (!s.Valid || !r.Valid)
+  {
+    return false;
+  }
+  const Vec3* sh = this->HullVertices.data() + s.FirstHullPoint;
+  const double tol = this->Tolerance;
+  const double diameter = Length(tile[2] - tile[0]);
+  // Looser than every pyramid from a point of the tile (BuildFrustum): the
+  // shooter's front loosened by tol; the receiver's too when the whole
+  // shooter is in front of it (else a pyramid of a query without tangent
+  // plane may reach behind it).
+  double behind = 0.0;
+  for (int k = 0; k < s.NumberOfHullPoints; ++k)
+  {
+    behind = std::min(behind, Dot(r.Normal, sh[k]) - r.Offset);
+  }
+  const Plane receiverSide = behind >= 0.0
+    ? Plane{ r.Normal, r.Offset - tol }
+    : Plane{ r.Normal, std::numeric_limits<double>::lowest() };
+  HullShaft({ sh, s.NumberOfHullPoints, s.Normal, s.Offset, s.Diameter },
+    { tile, 4, r.Normal, r.Offset, diameter }, { s.Normal, s.Offset - tol }, receiverSide, tol,
+    shaft);
+  this->VolumeCandidates(shaft, shooterId, receiverId, candidates);
+  std::sort(candidates.begin(), candidates.end());
   return true;
 }
 

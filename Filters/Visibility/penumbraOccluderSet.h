@@ -23,6 +23,7 @@
 #include "penumbraScene.h"
 #include "penumbraVector.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace penumbra
@@ -125,6 +126,13 @@ public:
   /// Convex hull vertices in their polygon's frame (u, v pairs).
   const std::vector<double>& GetHullPoints2D() const { return this->HullPoints2D; }
 
+  /**
+   * A number that no other Build of any set has had (0 for a set never
+   * built): caches of query results key on it, since another set may later
+   * live at the same address. Copies share it, as they share the contents.
+   */
+  std::uint64_t GetIdentity() const { return this->Identity; }
+
   /// Largest extent of the scene's bounding box.
   double GetExtent() const { return this->Extent; }
   /**
@@ -171,6 +179,17 @@ public:
   bool BuildFrustum(const Vec3& x, const Vec3& n, int shooterId, CullingVolume& frustum,
     std::vector<double>* clippedHull = nullptr) const;
 
+  /**
+   * Query C. The polygons, except the shooter and the receiver, that may
+   * meet the pyramid of any point of `tile` (a convex quadrilateral in the
+   * receiver's plane, counter-clockwise seen from its front) with the
+   * shooter (BuildFrustum): a list to filter point by point instead of a
+   * traversal per point. Sorted by id; `shaft` receives the volume used.
+   * False (no candidates) when either polygon is invalid.
+   */
+  bool TileCandidates(const Vec3 tile[4], int shooterId, int receiverId,
+    std::vector<int>& candidates, CullingVolume& shaft) const;
+
   /// Query B by BVH traversal: every polygon except `excludeA`/`excludeB` that may meet `volume`.
   void VolumeCandidates(
     const CullingVolume& volume, int excludeA, int excludeB, std::vector<int>& candidates) const;
@@ -202,6 +221,7 @@ private:
   std::vector<Node> Nodes;
   std::vector<int> Items;
   double Extent = 0.0;
+  std::uint64_t Identity = 0;
   double Tolerance = 0.0;
   double PlaneTolerance = 0.0;
 };

@@ -89,6 +89,52 @@ Scene LightAndFloor(double h)
   return scene;
 }
 
+// The light [-0.5, 0.5]^2 at height h over an 80 m square floor, and 2000
+// random quads (5 cm to 55 cm half-sides, random tilts) with centres over
+// the floor at heights zCentre +- zSpread.
+Scene ScatteredQuads(double h, unsigned seed, double zCentre, double zSpread)
+{
+  Scene scene = LightAndFloor(h);
+  scene.Surfaces[1] = HorizontalRect(-40, 40, -40, 40, 0.0, 1.0);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 2000; ++i)
+  {
+    const Vec3 c(40.0 * u(rng), 40.0 * u(rng), zCentre + zSpread * u(rng));
+    const Vec3 a = penumbra::Normalized(Vec3(u(rng), u(rng), u(rng)));
+    const Vec3 b = penumbra::Normalized(Cross(a, Vec3(u(rng), u(rng), u(rng))));
+    const double size = 0.05 + 0.5 * (1.0 + u(rng));
+    scene.Surfaces.push_back(Polygon({ c - a * size - b * size, c + a * size - b * size,
+                                       c + a * size + b * size, c - a * size + b * size },
+      Cross(a, b)));
+  }
+  return scene;
+}
+
+// Whether a 21 x 21 grid over the quad v has a point in the pyramid from x
+// (on the floor) to the light [-0.5, 0.5]^2 at height h.
+bool QuadMeetsPyramid(const std::vector<Vec3>& v, const Vec3& x, double h)
+{
+  for (int i = 0; i <= 20; ++i)
+  {
+    for (int j = 0; j <= 20; ++j)
+    {
+      const double s = i / 20.0, t = j / 20.0;
+      const Vec3 p = (v[0] * (1 - s) + v[1] * s) * (1 - t) + (v[3] * (1 - s) + v[2] * s) * t;
+      const double f = p.Z / h;
+      if (f > 0.0 && f <= 1.0)
+      {
+        const Vec3 q = x + (p - x) / f;
+        if (std::abs(q.X) <= 0.5 + 1e-9 && std::abs(q.Y) <= 0.5 + 1e-9)
+        {
+          return true;
+        }
+      }
+    }
+  }
+  return false;
+}
+
 void AddBox(Scene& scene, const Vec3& lo, const Vec3& hi)
 {
   const double x0 = lo.X, y0 = lo.Y, z0 = lo.Z, x1 = hi.X, y1 = hi.Y, z1 = hi.Z;
@@ -1090,31 +1136,10 @@ PENUMBRA_TEST(TestCulling)
 PENUMBRA_TEST(TestCapsuleKeepsCandidates)
 {
   const double h = 3.0;
-  Scene scene = LightAndFloor(h);
-  scene.Surfaces[1] = HorizontalRect(-40, 40, -40, 40, 0.0, 1.0);
+  const Scene scene = ScatteredQuads(h, 11, 1.5, 1.45);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (int i = 0; i < 2000; ++i)
-  {
-    const Vec3 c(40.0 * u(rng), 40.0 * u(rng), 1.5 + 1.45 * u(rng));
-    const Vec3 a = penumbra::Normalized(Vec3(u(rng), u(rng), u(rng)));
-    const Vec3 b = penumbra::Normalized(Cross(a, Vec3(u(rng), u(rng), u(rng))));
-    const double size = 0.05 + 0.5 * (1.0 + u(rng));
-    scene.Surfaces.push_back(Polygon({ c - a * size - b * size, c + a * size - b * size,
-                                       c + a * size + b * size, c - a * size + b * size },
-      Cross(a, b)));
-  }
   const penumbra::OccluderSet set(scene);
-  // In the pyramid from x (on the floor) to the light [-0.5, 0.5]^2 at height h.
-  const auto inPyramid = [h](const Vec3& x, const Vec3& p) {
-    const double s = p.Z / h;
-    if (!(s > 0.0 && s <= 1.0))
-    {
-      return false;
-    }
-    const Vec3 q = x + (p - x) / s;
-    return std::abs(q.X) <= 0.5 + 1e-9 && std::abs(q.Y) <= 0.5 + 1e-9;
-  };
   penumbra::CullingVolume frustum;
   std::vector<int> with, without;
   long long kept = 0, removed = 0;
@@ -1143,24 +1168,84 @@ PENUMBRA_TEST(TestCapsuleKeepsCandidates)
         continue;
       }
       ++removed;
-      const std::vector<Vec3>& v = scene.Surfaces[id].Vertices;
-      bool inside = false;
-      for (int i = 0; i <= 20 && !inside; ++i)
-      {
-        for (int j = 0; j <= 20 && !inside; ++j)
-        {
-          const double s = i / 20.0, t = j / 20.0;
-          const Vec3 p = (v[0] * (1 - s) + v[1] * s) * (1 - t) + (v[3] * (1 - s) + v[2] * s) * t;
-          inside = inPyramid(x, p);
-        }
-      }
-      PENUMBRA_EXPECT(!inside);
+      PENUMBRA_EXPECT(!QuadMeetsPyramid(scene.Surfaces[id].Vertices, x, h));
     }
   }
   PENUMBRA_EXPECT(queries > 400);
   PENUMBRA_EXPECT(kept > 0 && removed > 0);
   std::printf("capsule: %d pyramids, %lld candidates kept, %lld that miss the pyramid removed\n",
     queries, kept, removed);
+}
+
+// The tile query (OccluderSet::TileCandidates) lists every polygon that the
+// pyramid of a point of the tile meets: filtered by that pyramid it gives
+// the traversal's candidates and at most a few that miss the pyramid, for random tiles (1 cm to 4 m) around
+// points under and far from the light, among randomly placed and tilted
+// quads, some of them crossing the light's plane; and the evaluator, whose
+// traversals use such tiles, gives the form factors of explicit traversals.
+PENUMBRA_TEST(TestTileCandidatesMatchTheTraversal)
+{
+  const double h = 3.0;
+  const Scene scene = ScatteredQuads(h, 5, 1.6, 1.6);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const penumbra::OccluderSet set(scene);
+  penumbra::CullingVolume frustum, shaft;
+  std::vector<int> traversal, tile, filtered;
+  long long listed = 0, kept = 0, extra = 0;
+  int queries = 0;
+  for (int k = 0; k < 400; ++k)
+  {
+    const double reach = k % 2 ? 40.0 : 1.0;
+    const Vec3 x(reach * u(rng), reach * u(rng), 0.0);
+    if (!set.BuildFrustum(x, Vec3(0, 0, 1), 0, frustum))
+    {
+      continue;
+    }
+    ++queries;
+    const double side = std::pow(10.0, -2.0 + 2.6 * 0.5 * (1.0 + u(rng)));
+    const Vec3 corner(x.X - side * 0.5 * (1.0 + u(rng)), x.Y - side * 0.5 * (1.0 + u(rng)), 0.0);
+    const Vec3 square[4] = { corner, corner + Vec3(side, 0, 0), corner + Vec3(side, side, 0),
+      corner + Vec3(0, side, 0) };
+    PENUMBRA_EXPECT(set.TileCandidates(square, 0, 1, tile, shaft));
+    set.VolumeCandidates(frustum, 0, 1, traversal);
+    filtered.clear();
+    set.FilterCandidates(frustum, tile.data(), static_cast<int>(tile.size()), 0, 1, filtered);
+    std::sort(traversal.begin(), traversal.end());
+    // Every polygon the traversal finds; the few more miss the pyramid.
+    PENUMBRA_EXPECT(
+      std::includes(filtered.begin(), filtered.end(), traversal.begin(), traversal.end()));
+    for (const int id : filtered)
+    {
+      if (!std::binary_search(traversal.begin(), traversal.end(), id))
+      {
+        ++extra;
+        PENUMBRA_EXPECT(!QuadMeetsPyramid(scene.Surfaces[id].Vertices, x, h));
+      }
+    }
+    listed += static_cast<long long>(tile.size());
+    kept += static_cast<long long>(traversal.size());
+  }
+  PENUMBRA_EXPECT(queries > 300 && kept > 0);
+  std::printf("tiles: %d pyramids, %lld polygons listed by their tiles, %lld kept by the "
+              "traversal, %lld more that miss the pyramid\n",
+    queries, listed, kept, extra);
+
+  const penumbra::ExactEvaluator evaluator(scene);
+  penumbra::VisibilityWorkspace cached, fresh;
+  std::vector<int> all(scene.Surfaces.size() - 2);
+  for (std::size_t i = 0; i < all.size(); ++i)
+  {
+    all[i] = static_cast<int>(i) + 2;
+  }
+  for (int k = 0; k < 200; ++k)
+  {
+    const Vec3 x(4.0 * u(rng), 4.0 * u(rng), 0.0);
+    const double withTiles = evaluator.FormFactor(x, Vec3(0, 0, 1), 1, 0, cached);
+    // A candidate list longer than the evaluator's limit is traversed.
+    const double traversed = evaluator.FormFactor(x, Vec3(0, 0, 1), 1, 0, all, fresh);
+    PENUMBRA_EXPECT(withTiles == traversed);
+  }
 }
 
 } // namespace
