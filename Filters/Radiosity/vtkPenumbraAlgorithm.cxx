@@ -60,6 +60,18 @@ void vtkPenumbraAlgorithm::Warn(const std::string& message)
   vtkWarningMacro(<< message);
 }
 
+void vtkPenumbraAlgorithm::KeepWarningsOf(vtkAlgorithm* stage, const std::string& prefix)
+{
+  vtkPenumbraAlgorithm* filter = vtkPenumbraAlgorithm::SafeDownCast(stage);
+  if (filter && filter != this)
+  {
+    for (const std::string& warning : filter->Warnings)
+    {
+      this->Warnings.push_back(prefix + ": " + warning);
+    }
+  }
+}
+
 std::string vtkPenumbraAlgorithm::ErrorText(const std::string& message)
 {
   static const std::string header = "ERROR: In ";

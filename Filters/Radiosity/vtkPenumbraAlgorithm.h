@@ -68,6 +68,13 @@ public:
    * vtkWarningMacro. For the filter's own code and the helpers it runs.
    */
   void Warn(const std::string& message);
+
+  /**
+   * C++ only: keep the warnings of `stage` (a filter this one ran, already
+   * reported by it) for GetWarning(), each as "<prefix>: <warning>". Does
+   * nothing for a filter that is not a vtkPenumbraAlgorithm.
+   */
+  void KeepWarningsOf(vtkAlgorithm* stage, const std::string& prefix);
 #endif
 
 #ifndef __VTK_WRAP__

@@ -222,6 +222,7 @@ int vtkPenumbraSolver::Execute(
     const Clock::time_point stageStart = Clock::now();
     const int ok = stages[k].Filter->GetExecutive()->Update();
     stageSeconds[k] = seconds(stageStart);
+    this->KeepWarningsOf(stages[k].Filter, stages[k].Name);
     if (this->GetAbortExecute())
     {
       return 1;
@@ -271,6 +272,8 @@ int vtkPenumbraSolver::Execute(
         const bool secondaryOk =
           mesher->GetExecutive()->Update() && evaluator->GetExecutive()->Update();
         secondarySeconds = seconds(secondaryStart);
+        this->KeepWarningsOf(mesher, "secondary shooters: mesher");
+        this->KeepWarningsOf(evaluator, "secondary shooters: evaluator");
         if (!secondaryOk || !observers[0].Error.empty() || !observers[1].Error.empty())
         {
           vtkErrorMacro(<< "secondary shooters: "

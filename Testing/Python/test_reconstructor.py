@@ -450,3 +450,54 @@ def test_graded_mesh_does_not_overshoot():
     span = values.max() - values.min()
     assert display.max() <= values.max() + 0.25 * span
     assert display.min() >= values.min() - 0.25 * span
+
+
+def test_sliver_turned_clockwise_is_repaired_with_a_warning():
+    """A sample triangle whose apex lies 1e-17 on the wrong side of its long
+    edge (as rounding leaves a sampler's sliver after a change of frame) is
+    merged into its neighbour with one warning; the reconstruction of a
+    linear field stays exact, and the constrained line through it is kept."""
+    from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkIntArray, vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray
+
+    xyz = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.5, -1e-17, 0.0), (0.5, 1.0, 0.0),
+           (0.5, -1.0, 0.0)]
+    a, b, c, e, d = range(5)
+    points = vtkPoints()
+    points.SetDataTypeToDouble()
+    radiance = vtkDoubleArray()
+    radiance.SetName("Radiance")
+    radiance.SetNumberOfComponents(3)
+    field = lambda x, y: 1.0 + 2.0 * x + 3.0 * y
+    for p in xyz:
+        points.InsertNextPoint(p)
+        radiance.InsertNextTuple3(field(p[0], p[1]), field(p[0], p[1]), field(p[0], p[1]))
+    lines, polys = vtkCellArray(), vtkCellArray()
+    lines.InsertNextCell(2, [a, b])
+    for tri in ((b, a, d), (a, b, c), (a, c, e), (c, b, e)):
+        polys.InsertNextCell(3, tri)
+    mesh = vtkPolyData()
+    mesh.SetPoints(points)
+    mesh.SetLines(lines)
+    mesh.SetPolys(polys)
+    mesh.GetPointData().AddArray(radiance)
+    surface, order = vtkIntArray(), vtkIntArray()
+    surface.SetName("SurfaceId")
+    order.SetName("DiscontinuityOrder")
+    for k in range(5):
+        surface.InsertNextValue(0)
+        order.InsertNextValue(1 if k == 0 else -1)
+    mesh.GetCellData().AddArray(surface)
+    mesh.GetCellData().AddArray(order)
+
+    reconstructor = penumbra.vtkPenumbraRadianceReconstructor()
+    reconstructor.SetInputData(mesh)
+    reconstructor.SetSubdivisionLevel(2)
+    reconstructor.SetCompactTolerance(0.0)
+    out = penumbra.run_filter(reconstructor)
+    warnings = [reconstructor.GetWarning(k) for k in range(reconstructor.GetNumberOfWarnings())]
+    assert len(warnings) == 1 and "repaired 1 sample triangle" in warnings[0], warnings
+    xy = vtk_to_numpy(out.GetPoints().GetData())
+    values = vtk_to_numpy(out.GetPointData().GetArray("Radiance"))
+    assert np.abs(values[:, 0] - field(xy[:, 0], xy[:, 1])).max() < 1e-9
+    assert out.GetNumberOfLines() >= 1

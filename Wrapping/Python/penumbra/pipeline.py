@@ -6,8 +6,11 @@ defaults and returns the result vtkPolyData (design contract: triangles with
 the standard radiosity baseline instead (vtkPenumbraStandardRadiositySolver: same
 contract, no `RadianceErrorEstimate`)."""
 
-METHODS = ("discontinuity", "standard")
+import warnings as python_warnings
+
 from vtkmodules.vtkCommonDataModel import vtkPolyData
+
+METHODS = ("discontinuity", "standard")
 
 
 def point_samples(points, surface_id):
@@ -122,7 +125,8 @@ def solve(scene, threads=None, progress=None, method="discontinuity", strict=Fal
 
     Imported scenes are repaired where that is safe, with a PenumbraWarning
     per kind of repair (see penumbra.load_scene); strict=True rejects them
-    instead. quality: "draft", "normal" or "high" (settings.QUALITY_PRESETS,
+    instead. The solve's own warnings (each naming its stage) are issued as
+    PenumbraWarnings too. quality: "draft", "normal" or "high" (settings.QUALITY_PRESETS,
     discontinuity method only); settings given by name override it.
 
     threads: worker threads (default: all cores). progress: a callable
@@ -189,5 +193,8 @@ def solve(scene, threads=None, progress=None, method="discontinuity", strict=Fal
             lambda caller, _event: progress(caller.GetProgressText() or method,
                                             caller.GetProgress()))
     result = vtkPolyData()
-    result.ShallowCopy(penumbra.run_filter(algorithm))
+    found = []
+    result.ShallowCopy(penumbra.run_filter(algorithm, warnings=found))
+    for message in found:
+        python_warnings.warn(message, penumbra.PenumbraWarning, stacklevel=2)
     return result
