@@ -468,7 +468,10 @@ int vtkPenumbraRadianceReconstructor::Execute(
     if (results[s].RepairedSlivers > 0)
     {
       slivers += results[s].RepairedSlivers;
-      firstSliverSurface = sliverSurfaces++ == 0 ? ids[s] : firstSliverSurface;
+      if (sliverSurfaces++ == 0)
+      {
+        firstSliverSurface = ids[s];
+      }
     }
   }
   if (slivers > 0)

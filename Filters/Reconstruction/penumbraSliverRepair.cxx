@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numeric>
 #include <unordered_map>
 
 namespace penumbra
@@ -30,12 +31,33 @@ std::uint64_t UndirectedKey(int a, int b)
   return a < b ? DirectedKey(a, b) : DirectedKey(b, a);
 }
 
+/// Twice the signed area of the triangle of points a, b, c (positive: counter-clockwise).
+double TwiceArea(const SampleMesh& m, int a, int b, int c)
+{
+  const double* pa = m.Points.data() + 2 * a;
+  const double* pb = m.Points.data() + 2 * b;
+  const double* pc = m.Points.data() + 2 * c;
+  return (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
+}
+
+/// The result of a repair that changes nothing: identity maps.
+SliverRepairResult Unchanged(const SampleMesh& m)
+{
+  SliverRepairResult result;
+  result.TriangleMap.resize(static_cast<std::size_t>(m.GetNumberOfTriangles()));
+  std::iota(result.TriangleMap.begin(), result.TriangleMap.end(), 0);
+  result.EdgeOrigin.resize(m.EdgeOrders.size());
+  std::iota(result.EdgeOrigin.begin(), result.EdgeOrigin.end(), 0);
+  return result;
+}
+
 class Repairer
 {
 public:
   explicit Repairer(SampleMesh& mesh)
     : Mesh(mesh)
     , Dropped(static_cast<std::size_t>(mesh.GetNumberOfTriangles()), false)
+    , Result(Unchanged(mesh))
   {
     const int nt = mesh.GetNumberOfTriangles();
     for (int t = 0; t < nt; ++t)
@@ -47,11 +69,6 @@ public:
       this->Constraints[UndirectedKey(mesh.ConstrainedEdges[2 * e],
                           mesh.ConstrainedEdges[2 * e + 1])]
         .push_back(static_cast<int>(e));
-    }
-    this->Result.EdgeOrigin.resize(mesh.EdgeOrders.size());
-    for (std::size_t e = 0; e < mesh.EdgeOrders.size(); ++e)
-    {
-      this->Result.EdgeOrigin[e] = static_cast<int>(e);
     }
   }
 
@@ -82,13 +99,7 @@ private:
   int* Corners(int t) { return this->Mesh.Triangles.data() + 3 * t; }
   const double* Point(int p) const { return this->Mesh.Points.data() + 2 * p; }
 
-  double Area2(int a, int b, int c) const
-  {
-    const double* pa = this->Point(a);
-    const double* pb = this->Point(b);
-    const double* pc = this->Point(c);
-    return (pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]);
-  }
+  double Area2(int a, int b, int c) const { return TwiceArea(this->Mesh, a, b, c); }
   double Area2(int t)
   {
     const int* p = this->Corners(t);
@@ -254,32 +265,15 @@ private:
 //------------------------------------------------------------------------------
 SliverRepairResult RepairSlivers(SampleMesh& mesh)
 {
-  const int nt = mesh.GetNumberOfTriangles();
-  bool anySliver = false;
-  for (int t = 0; t < nt && !anySliver; ++t)
+  for (int t = 0; t < mesh.GetNumberOfTriangles(); ++t)
   {
     const int* p = mesh.Triangles.data() + 3 * t;
-    const double* a = mesh.Points.data() + 2 * p[0];
-    const double* b = mesh.Points.data() + 2 * p[1];
-    const double* c = mesh.Points.data() + 2 * p[2];
-    anySliver = !((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0);
+    if (!(TwiceArea(mesh, p[0], p[1], p[2]) > 0.0))
+    {
+      return Repairer(mesh).Run();
+    }
   }
-  if (anySliver)
-  {
-    return Repairer(mesh).Run();
-  }
-  SliverRepairResult identity;
-  identity.TriangleMap.resize(static_cast<std::size_t>(nt));
-  for (int t = 0; t < nt; ++t)
-  {
-    identity.TriangleMap[static_cast<std::size_t>(t)] = t;
-  }
-  identity.EdgeOrigin.resize(mesh.EdgeOrders.size());
-  for (std::size_t e = 0; e < mesh.EdgeOrders.size(); ++e)
-  {
-    identity.EdgeOrigin[e] = static_cast<int>(e);
-  }
-  return identity;
+  return Unchanged(mesh);
 }
 
 } // namespace penumbra

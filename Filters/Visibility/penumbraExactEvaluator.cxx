@@ -579,8 +579,9 @@ constexpr int LongCandidateList = 64;
  * and each point filters that list with its own pyramid. That keeps every
  * occluder the traversal finds, and at most a few more that miss the
  * pyramid (the traversal's capsule test on a node's box also drops some
- * that the test on their own box keeps), which cast nothing. A tile list longer than LongTileList is
- * dropped for the traversal; the cache is emptied at MaximumTiles entries.
+ * that the test on their own box keeps), which cast nothing. A tile list
+ * longer than LongTileList is dropped for the traversal; the cache is
+ * emptied at MaximumTiles entries.
  */
 constexpr double TilesPerDiameter = 16.0;
 constexpr std::size_t LongTileList = 256;
@@ -610,8 +611,8 @@ const std::vector<int>* TileList(const OccluderSet& set, const Vec3& x, const Ve
   {
     return nullptr;
   }
-  const VisibilityWorkspace::TileKey key{ set.GetIdentity(), receiverId, shooterId, static_cast<long long>(i),
-    static_cast<long long>(j) };
+  const VisibilityWorkspace::TileKey key{ set.GetIdentity(), receiverId, shooterId,
+    static_cast<long long>(i), static_cast<long long>(j) };
   auto found = ws.Tiles.find(key);
   if (found == ws.Tiles.end())
   {
@@ -623,7 +624,8 @@ const std::vector<int>* TileList(const OccluderSet& set, const Vec3& x, const Ve
     const Vec3 tile[4] = { corner, corner + r.AxisU * size,
       corner + r.AxisU * size + r.AxisV * size, corner + r.AxisV * size };
     VisibilityWorkspace::TileEntry entry;
-    entry.Usable = set.TileCandidates(tile, shooterId, receiverId, entry.Candidates, ws.TileShaft) &&
+    entry.Usable =
+      set.TileCandidates(tile, shooterId, receiverId, entry.Candidates, ws.TileShaft) &&
       entry.Candidates.size() <= LongTileList;
     if (!entry.Usable)
     {
