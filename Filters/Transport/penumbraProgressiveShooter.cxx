@@ -96,10 +96,12 @@ RGB EvaluateShot(const Shot& shot, const ExactEvaluator& exact, const Vec3& x, c
  * Shoot the members' unshot radiance (one surface, or a group) at every
  * receiver that can see them. With `sweep` (ReuseTransport) the members are
  * every surface with triangles and the irradiance comes from the recorded
- * transport (recorded on the first sweep).
+ * transport (recorded on the first sweep). A fast single shot evaluates
+ * the receivers `exactSurfaces` by the exact method instead, for their
+ * secondary shadows (SecondaryShadowSurfaces).
  */
-ShotRecord ProgressiveShooter::Internals::ShootSurfaces(
-  const std::vector<int>& members, ShotMethod method, double reference, bool sweep)
+ShotRecord ProgressiveShooter::Internals::ShootSurfaces(const std::vector<int>& members,
+  ShotMethod method, double reference, bool sweep, const std::vector<int>& exactSurfaces)
 {
   const bool group = members.size() > 1;
   const int shooterId = members[0];
@@ -144,27 +146,40 @@ ShotRecord ProgressiveShooter::Internals::ShootSurfaces(
     record.Receivers = static_cast<int>(receivers.size());
     record.Samples = static_cast<long long>(items);
     std::vector<RGB> irradiance(items);
+    // The receivers evaluated exactly (indices into receivers), and the rest.
+    std::vector<int> exact;
+    std::vector<Receiver> others;
+    const bool secondary = items > 0 && !sweep && !group && method == ShotMethod::Fast;
+    for (std::size_t r = 0; r < receivers.size(); ++r)
+    {
+      const bool chosen = secondary &&
+        std::find(exactSurfaces.begin(), exactSurfaces.end(), receivers[r].Id) !=
+          exactSurfaces.end();
+      if (chosen)
+      {
+        exact.push_back(static_cast<int>(r));
+      }
+      else
+      {
+        others.push_back(receivers[r]);
+      }
+    }
     if (items > 0 && sweep)
     {
       record.Rays += this->SweepIrradiance(receivers, irradiance);
     }
     else if (items > 0 && method == ShotMethod::Fast && this->Settings.ReceiverClusterSize > 1)
     {
-      record.Rays += this->ClusterIrradiance(shot, receivers, irradiance);
+      record.Rays += this->ClusterIrradiance(shot, others, irradiance);
     }
     else if (items > 0)
     {
       record.Rays += this->PointIrradiance(shot, receivers, irradiance);
     }
-    if (items > 0 && !sweep && !group && method == ShotMethod::Fast)
+    if (!exact.empty())
     {
-      const std::vector<int> exact =
-        this->SecondaryShadowReceivers(shooterId, receivers, &irradiance);
-      if (!exact.empty())
-      {
-        this->ExactReceivers(receivers, exact, shooterId, irradiance);
-        record.ExactReceivers = static_cast<int>(exact.size());
-      }
+      this->ExactReceivers(receivers, exact, shooterId, irradiance);
+      record.ExactReceivers = static_cast<int>(exact.size());
     }
     // Members whose light cannot leave the scene deliver all their power to
     // the receivers and to the backs of surfaces, which absorb it: a closed
@@ -368,6 +383,28 @@ long long ProgressiveShooter::Internals::PointIrradiance(
     sum += count;
   }
   return sum;
+}
+
+/// The shot's method at the evaluation points `points` of one receiver.
+std::vector<RGB> ProgressiveShooter::Internals::PilotIrradiance(
+  const Shot& shot, const Receiver& receiver, const std::vector<int>& points)
+{
+  const bool fast = shot.Method == ShotMethod::Fast;
+  const RayCaster* caster = fast ? &this->Caster() : nullptr;
+  const Vec3& normal = this->Samples.Polygon(receiver.Id).Normal;
+  std::vector<RGB> irradiance(points.size());
+  RunParallel(this->Loop, points.size(), [&](std::size_t begin, std::size_t end) {
+    ShotWorkspace ws;
+    long long rays = 0;
+    for (std::size_t k = begin; k < end; ++k)
+    {
+      const int p = points[k];
+      irradiance[k] = EvaluateShot(shot, this->Exact, this->Samples.EvaluationPoints[receiver.Id][p],
+        this->Samples.RayOrigins[receiver.Id][p], normal, receiver.Id, &receiver.Candidates, caster,
+        ws, rays);
+    }
+  });
+  return irradiance;
 }
 
 /**
@@ -706,7 +743,9 @@ ShotRecord ProgressiveShooter::Shoot(int shooterId, ShotMethod method)
       " out of range [0, " + std::to_string(this->GetNumberOfSurfaces()) + ")");
   }
   I.EnsureEnergy();
-  return I.ShootSurfaces({ shooterId }, method, this->GetReferencePower());
+  const std::vector<int> exactSurfaces =
+    method == ShotMethod::Fast ? I.SecondaryShadowSurfaces(shooterId) : std::vector<int>();
+  return I.ShootSurfaces({ shooterId }, method, this->GetReferencePower(), false, exactSurfaces);
 }
 
 bool ShootingDone(double unshot, double target, int shots, int maximumShots, StopReason& reason)
@@ -778,6 +817,7 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     }
     const ShotMethod method = this->ChooseMethod(I.Samples.UnshotPower[j].Mean());
     std::vector<int> members(1, j);
+    std::vector<int> exactSurfaces;
     bool sweep = method == ShotMethod::Fast && I.Settings.ReuseTransport;
     bool secondary = false;
     if (method == ShotMethod::Fast && !swept && !coarse && singles < MaximumSingleShots &&
@@ -785,13 +825,8 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     {
       // A shooter whose light casts shadows that matter is shot on its own
       // first, its shadows evaluated exactly (see SecondaryShadowShare).
-      std::size_t items = 0;
-      Shot probe;
-      probe.Empty = false;
-      probe.Shooter = j;
-      const std::vector<Internals::Receiver> receivers =
-        I.FindReceivers(probe, std::vector<char>(I.Samples.Surfaces.size(), 0), false, items);
-      secondary = !I.SecondaryShadowReceivers(j, receivers, nullptr).empty();
+      exactSurfaces = I.SecondaryShadowSurfaces(j);
+      secondary = !exactSurfaces.empty();
       sweep = sweep && !secondary;
       singles += secondary ? 1 : 0;
     }
@@ -812,7 +847,12 @@ ShootingSummary ProgressiveShooter::Run(const ShotCallback& callback)
     {
       members = SelectGroup(I.Samples, j, I.Settings.GroupAcrossOrientations, weak);
     }
-    ShotRecord record = I.ShootSurfaces(members, method, this->GetReferencePower(), sweep);
+    if (sweep)
+    {
+      tail.Before(I.Samples);
+    }
+    ShotRecord record =
+      I.ShootSurfaces(members, method, this->GetReferencePower(), sweep, exactSurfaces);
     ++summary.Shots;
     if (method == ShotMethod::Exact)
     {

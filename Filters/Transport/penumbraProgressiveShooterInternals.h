@@ -71,8 +71,8 @@ struct ProgressiveShooter::Internals
     }
   }
 
-  ShotRecord ShootSurfaces(
-    const std::vector<int>& members, ShotMethod method, double reference, bool sweep = false);
+  ShotRecord ShootSurfaces(const std::vector<int>& members, ShotMethod method, double reference,
+    bool sweep = false, const std::vector<int>& exactSurfaces = std::vector<int>());
   std::vector<Receiver> FindReceivers(const Shot& shot, const std::vector<char>& isMember,
     bool sweep, std::size_t& items) const;
   std::vector<long long> FirstItems(const std::vector<Receiver>& receivers) const;
@@ -81,12 +81,14 @@ struct ProgressiveShooter::Internals
     const Shot& shot, const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance);
   long long PointIrradiance(
     const Shot& shot, const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance);
+  std::vector<RGB> PilotIrradiance(
+    const Shot& shot, const Receiver& receiver, const std::vector<int>& points);
   void Receive(const std::vector<Receiver>& receivers, std::vector<RGB>& irradiance,
     bool closed, ShotRecord& record);
   void RecordTransport();
   void EnsureEnergy();
-  std::vector<int> SecondaryShadowReceivers(
-    int shooter, const std::vector<Receiver>& receivers, const std::vector<RGB>* irradiance);
+  std::vector<int> SecondaryShadowSurfaces(int shooter);
+  bool FastShadowsSuffice(const Receiver& receiver, const Shot& fast, const Shot& exact);
   void ExactReceivers(const std::vector<Receiver>& receivers, const std::vector<int>& which,
     int shooter, std::vector<RGB>& irradiance);
   bool SomeSurfaceUnsettled(double reference) const;
