@@ -183,9 +183,14 @@ int vtkPenumbraSolver::Execute(
   reconstructor->SetCompactIndirectTolerance(this->CompactIndirectTolerance);
   reconstructor->SetSubdivisionLevel(this->SubdivisionLevel);
 
-  // Shares of the progress bar: about the shares of the time on the Cornell box.
-  std::vector<Stage> stages = { { mesher, "mesher", 0.02 }, { evaluator, "evaluator", 0.15 },
-    { shooter, "shooter", 0.78 }, { reconstructor, "reconstructor", 0.05 } };
+  // Shares of the progress bar: about the shares of the time on the Cornell
+  // box. The secondary shooters' second pass of the mesher and the evaluator
+  // has a share of its own, after the evaluator's, so that the bar never
+  // moves back (it is skipped when the pass is not needed).
+  constexpr double SecondaryMesherShare = 0.02;
+  constexpr double SecondaryEvaluatorShare = 0.08;
+  std::vector<Stage> stages = { { mesher, "mesher", 0.02 }, { evaluator, "evaluator", 0.13 },
+    { shooter, "shooter", 0.70 }, { reconstructor, "reconstructor", 0.05 } };
   if (!this->Indirect)
   {
     stages = { { mesher, "mesher", 0.1 }, { evaluator, "evaluator", 0.8 },
@@ -194,6 +199,7 @@ int vtkPenumbraSolver::Execute(
   std::vector<StageObserver> observers(stages.size());
   std::vector<vtkNew<vtkCallbackCommand>> progress(stages.size()), errors(stages.size());
   double start = 0.0;
+  double secondaryStart = 0.0;
   for (std::size_t k = 0; k < stages.size(); ++k)
   {
     observers[k].Solver = this;
@@ -201,6 +207,11 @@ int vtkPenumbraSolver::Execute(
     observers[k].Start = start;
     observers[k].Weight = stages[k].Weight;
     start += stages[k].Weight;
+    if (k == 1 && this->Indirect)
+    {
+      secondaryStart = start;
+      start += SecondaryMesherShare + SecondaryEvaluatorShare;
+    }
     progress[k]->SetCallback(OnStageProgress);
     progress[k]->SetClientData(&observers[k]);
     stages[k].Filter->AddObserver(vtkCommand::ProgressEvent, progress[k]);
@@ -267,11 +278,18 @@ int vtkPenumbraSolver::Execute(
           }
           mesher->AddShooterId(entry.Shooter, receivers);
         }
+        // The same filters again, in the pass's own share of the bar.
+        observers[0].Name = "secondary shooters: mesher";
+        observers[0].Start = secondaryStart;
+        observers[0].Weight = SecondaryMesherShare;
+        observers[1].Name = "secondary shooters: evaluator";
+        observers[1].Start = secondaryStart + SecondaryMesherShare;
+        observers[1].Weight = SecondaryEvaluatorShare;
         this->SetProgressText("secondary shooters");
-        const Clock::time_point secondaryStart = Clock::now();
+        const Clock::time_point secondaryTime = Clock::now();
         const bool secondaryOk =
           mesher->GetExecutive()->Update() && evaluator->GetExecutive()->Update();
-        secondarySeconds = seconds(secondaryStart);
+        secondarySeconds = seconds(secondaryTime);
         this->KeepWarningsOf(mesher, "secondary shooters: mesher");
         this->KeepWarningsOf(evaluator, "secondary shooters: evaluator");
         if (!secondaryOk || !observers[0].Error.empty() || !observers[1].Error.empty())

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The Python package: wrapped classes, settings, scene loading and its errors."""
+"""The Python package: wrapped classes, settings, scene loading and its errors,
+and the progress a solve reports."""
 import math
 import os
 
@@ -125,3 +126,17 @@ def test_bad_obj_names_file_and_line(tmp_path):
     path.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 7\n")
     with pytest.raises(penumbra.PenumbraError, match=r"broken.obj:4"):
         penumbra.load_scene(str(path))
+
+
+def test_progress_never_moves_back():
+    """The solve reports its progress stage by stage, the secondary shooters'
+    second pass of the mesher and the evaluator in a share of its own: the
+    fraction never decreases and ends at 1 (the Cornell box has that pass)."""
+    reports = []
+    result = penumbra.solve("cornell", threads=2,
+                            progress=lambda stage, fraction: reports.append((stage, fraction)))
+    assert result.GetFieldData().GetArray("SecondaryShootersSeconds").GetValue(0) > 0.0
+    fractions = [fraction for _, fraction in reports]
+    assert all(b >= a for a, b in zip(fractions, fractions[1:])), reports
+    assert fractions[-1] == 1.0
+    assert any(stage.startswith("secondary shooters") for stage, _ in reports)
