@@ -65,8 +65,7 @@ void SweepTail::Before(const SampleSet& samples)
   }
 }
 
-double SweepTail::Fit(
-  const SampleSet& samples, int count, double slowest, RGB* coefficients) const
+double SweepTail::Fit(const SampleSet& samples, int count, RGB* coefficients) const
 {
   const std::vector<double> weights = FlatWeights(samples);
   const int n = static_cast<int>(this->Vectors.size());
@@ -173,9 +172,11 @@ double SweepTail::Fit(
         return HUGE_VAL;
       }
     }
-    error += Pi * residual / 3.0;
+    // Each channel is its own series (its own reflectances): its residual
+    // spreads over the sweeps its own ratio takes.
+    error += Pi * residual / (3.0 * (1.0 - this->Lambda[c]));
   }
-  return error / (1.0 - slowest);
+  return error;
 }
 
 void SweepTail::Observe(const SampleSet& samples, const ShotRecord& record)
@@ -214,7 +215,7 @@ void SweepTail::Observe(const SampleSet& samples, const ShotRecord& record)
       for (int count = 1; count <= available; ++count)
       {
         RGB coefficients[MaximumVectors];
-        const double error = this->Fit(samples, count, slowest, coefficients);
+        const double error = this->Fit(samples, count, coefficients);
         if (error < this->Error)
         {
           this->Error = error;

@@ -54,7 +54,7 @@ public:
    * The error (mean of RGB, watts) the tail's sum would leave: the
    * residual of the fit (pi times its integral of |r| over the surfaces,
    * the light not accounted for), times 1 / (1 - lambda) for the sweeps
-   * that would spread it.
+   * that would spread it, per channel.
    */
   double RemainingError() const { return this->Error; }
 
@@ -72,7 +72,7 @@ public:
 private:
   /// Fit the coefficients to the last `count` differences (per channel);
   /// returns the remaining error of that fit, HUGE_VAL if it fails.
-  double Fit(const SampleSet& samples, int count, double slowest, RGB* coefficients) const;
+  double Fit(const SampleSet& samples, int count, RGB* coefficients) const;
 
   /// Unshot radiance of every sample, surfaces one after the other: the
   /// series' vectors seen, oldest first (at most MaximumVectors).
