@@ -25,6 +25,7 @@
 #include <atomic>
 #include <cmath>
 #include <map>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -330,6 +331,28 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples,
       vtkErrorWithObjectMacro(self, << "surface " << surfaces[w] << ": " << errors[w]);
       return false;
     }
+  }
+  // Where the budget stopped the refinement the tolerance is not met: the
+  // user should know, and which settings to change.
+  int capped = 0;
+  int first = -1;
+  for (std::size_t w = 0; w < receivers.size(); ++w)
+  {
+    if (results[w].Statistics.BudgetReached)
+    {
+      first = capped++ == 0 ? surfaces[w] : first;
+    }
+  }
+  if (capped > 0)
+  {
+    std::ostringstream message;
+    message << capped << (capped == 1 ? " surface" : " surfaces") << " (the first: surface "
+            << first << ") reached the sample budget before SamplingTolerance "
+            << settings.SamplingTolerance << " was met there (MaximumSamples "
+            << self->GetMaximumSamples() << " shared by area over the scene, at most "
+            << "MaximumSamplesPerSurface " << settings.MaximumSamplesPerSurface
+            << " each): raise them, or SamplingTolerance, for an even accuracy";
+    self->Warn(message.str());
   }
   AssembleSampledMeshes(surfaces, results, output);
   return true;

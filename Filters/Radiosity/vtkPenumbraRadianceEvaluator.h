@@ -134,7 +134,8 @@ public:
    * bounds time and memory on scenes of many thousands of polygons, where
    * SamplingTolerance alone asks for thousands of samples per polygon; small
    * scenes never reach it (the Cornell box uses 13% of it). Where it binds,
-   * the largest residuals are refined first. Default 500000, range
+   * the largest residuals are refined first, and the filter warns (the
+   * number of surfaces it stopped, and the first). Default 500000, range
    * [0, 2000000000]; 0 = no scene budget.
    */
   vtkSetClampMacro(MaximumSamples, vtkIdType, 0, 2000000000);

@@ -83,8 +83,8 @@ public:
   /**
    * Adaptive sampling budget of the whole scene, shared among surfaces by
    * area (vtkPenumbraRadianceEvaluator::MaximumSamples). Default 500000 (the
-   * Cornell box uses 13% of it; a 20,000-polygon room reaches it), range
-   * [0, 2000000000]; 0 = no scene budget.
+   * Cornell box uses 13% of it; a 20,000-polygon room reaches it, with a
+   * warning), range [0, 2000000000]; 0 = no scene budget.
    */
   vtkSetClampMacro(MaximumSamples, vtkIdType, 0, 2000000000);
   vtkGetMacro(MaximumSamples, vtkIdType);

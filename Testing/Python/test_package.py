@@ -140,3 +140,18 @@ def test_progress_never_moves_back():
     assert all(b >= a for a, b in zip(fractions, fractions[1:])), reports
     assert fractions[-1] == 1.0
     assert any(stage.startswith("secondary shooters") for stage, _ in reports)
+
+
+def test_sample_budget_too_small_is_reported():
+    """A sample budget that stops the refinement before the tolerance is met
+    is not silent: the evaluator keeps a warning, the solver passes it on
+    named by its stage, and penumbra.solve issues it as a PenumbraWarning."""
+    expected = r"evaluator: .*sample budget.*MaximumSamples 500 "
+    with pytest.warns(penumbra.PenumbraWarning, match=expected) as record:
+        penumbra.solve("occluder", threads=2, indirect=False, maximum_samples=500)
+    assert len(record) == 1
+    # The default budget is enough for the built-in scene: no warning.
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", penumbra.PenumbraWarning)
+        penumbra.solve("occluder", threads=2, indirect=False)
