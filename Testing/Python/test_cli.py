@@ -135,6 +135,24 @@ def test_set_changes_a_solver_setting(tmp_path):
     assert _read_vtp(coarse).GetNumberOfPoints() < _read_vtp(default).GetNumberOfPoints()
 
 
+def test_coarse_level_is_reported(tmp_path):
+    """Interreflections shot on the coarse level (here the Cornell box's on
+    at most 4,000 points) are not silent: the summary after the solve says
+    so, with the points and the lattice's spacing; the default solve does
+    not."""
+    out = tmp_path / "coarse.vtp"
+    result = run_penumbra("solve", "cornell", "-o", out, "--set", "MaximumIndirectSamples=4000")
+    assert result.returncode == 0, result.stderr
+    lines = [line for line in result.stdout.splitlines() if "coarse level" in line]
+    assert len(lines) == 1, result.stdout
+    field = _read_vtp(out).GetFieldData()
+    points = int(field.GetArray("IndirectSamples").GetValue(0))
+    assert 0 < points <= 4000 + int(field.GetArray("IndirectSeparatePoints").GetValue(0))
+    assert ("%d points" % points) in lines[0]
+    default = run_penumbra("solve", "cornell", "-o", tmp_path / "default.vtp")
+    assert "coarse level" not in default.stdout
+
+
 def test_bad_set_is_a_one_line_error(tmp_path):
     out = tmp_path / "x.vtp"
     _assert_one_line_error(run_penumbra("solve", "cornell", "-o", out, "--set", "Nonsense=1"),

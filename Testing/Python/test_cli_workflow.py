@@ -115,7 +115,7 @@ def test_info_reports_the_record_of_the_solve(tmp_path):
     assert abs(sum(balance.values()) - 1.0) < 1e-9, balance
     emitted = vtk_to_numpy(data.GetFieldData().GetArray("EmittedPower"))
     assert "emitted power: %.6g" % emitted.ravel()[0] in text
-    stages = [float(s) for s in re.findall(r"(?:mesher|evaluator|secondaryshooters|shooter|"
+    stages = [float(s) for s in re.findall(r"(?:mesher|evaluator|secondary shooters|shooter|"
                                            r"reconstructor) ([0-9.]+) s", text)]
     solve = float(re.search(r"\(solve ([0-9.]+) s\)", text).group(1))
     assert len(stages) == 5 and sum(stages) <= solve + 0.02

@@ -106,11 +106,27 @@ def summary_lines(data):
                                             balance.get("Escaped", 0.0),
                                             balance.get("Residual", 0.0),
                                             balance.get("Unshot", 0.0)))
+    coarse = coarse_level_line(data)
+    if coarse:
+        lines.append(coarse)
     error = estimated_error(data)
     if error is not None:
         lines.append("estimated error: %.2g%% RMS of the mean radiance (largest on one surface "
                      "%.2g%%, surface %d)" % (100 * error[0], 100 * error[1], error[2]))
     return lines
+
+
+def coarse_level_line(data):
+    """When the interreflections were shot on the coarse level (more samples
+    than MaximumIndirectSamples), a line saying so, or None."""
+    spacing = _field(data, "IndirectSpacing")
+    points = _field(data, "IndirectSamples")
+    if not spacing or not points or not spacing[0] > 0:
+        return None
+    alone = _field(data, "IndirectSeparatePoints")
+    return ("interreflections on the coarse level (MaximumIndirectSamples): %d points, lattice "
+            "spacing %.3g, %d of them near occluders on their own"
+            % (points[0], spacing[0], alone[0] if alone else 0))
 
 
 def report_lines(data):
@@ -140,16 +156,21 @@ def report_lines(data):
         lines.append("energy balance (fractions of the emitted power): "
                      + ", ".join("%s %.4g" % (name.lower(), value)
                                  for name, value in balance.items()))
+    coarse = coarse_level_line(data)
+    if coarse:
+        lines.append(coarse)
     error = estimated_error(data)
     if error is not None:
         lines.append("estimated error: %.3g%% RMS of the mean radiance; largest on one surface "
                      "%.3g%% (surface %d)" % (100 * error[0], 100 * error[1], error[2]))
-    stages = [(name, _field(data, name + "Seconds")) for name in
-              ("Mesher", "Evaluator", "SecondaryShooters", "Shooter", "Reconstructor")]
+    stages = [(label, _field(data, name + "Seconds")) for name, label in
+              (("Mesher", "mesher"), ("Evaluator", "evaluator"),
+               ("SecondaryShooters", "secondary shooters"), ("Shooter", "shooter"),
+               ("Reconstructor", "reconstructor"))]
     stages = [(name, value[0]) for name, value in stages if value is not None]
     total = _field(data, "SolveSeconds")
     if stages:
-        lines.append("time per stage: " + ", ".join("%s %.2f s" % (name.lower(), seconds)
+        lines.append("time per stage: " + ", ".join("%s %.2f s" % (name, seconds)
                                                     for name, seconds in stages)
                      + (" (solve %.2f s)" % total[0] if total else ""))
     settings = _field(data, "SolverSettings")
