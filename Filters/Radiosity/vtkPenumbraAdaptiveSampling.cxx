@@ -125,6 +125,41 @@ void AttachSegments(const std::vector<std::array<vtkIdType, 2>>& lines,
   }
 }
 
+bool SameVector(const Vec3& a, const Vec3& b)
+{
+  return a.X == b.X && a.Y == b.Y && a.Z == b.Z;
+}
+
+/// Whether two input meshes are the same to the bit (points, triangles, segments).
+bool SameMesh(const ReceiverMesh& a, const ReceiverMesh& b)
+{
+  if (a.ReceiverId != b.ReceiverId || a.Points.size() != b.Points.size() ||
+    a.PointVertex != b.PointVertex || a.Triangles != b.Triangles ||
+    a.Segments.size() != b.Segments.size())
+  {
+    return false;
+  }
+  for (std::size_t k = 0; k < a.Points.size(); ++k)
+  {
+    if (!SameVector(a.Points[k], b.Points[k]))
+    {
+      return false;
+    }
+  }
+  for (std::size_t k = 0; k < a.Segments.size(); ++k)
+  {
+    const DiscontinuitySegment& p = a.Segments[k];
+    const DiscontinuitySegment& q = b.Segments[k];
+    if (!SameVector(p.A, q.A) || !SameVector(p.B, q.B) || p.Order != q.Order ||
+      p.SourceId != q.SourceId || p.ReceiverId != q.ReceiverId || p.PointA != q.PointA ||
+      p.PointB != q.PointB)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 /// Sample every receiver within its budget; a receiver's input error goes
 /// to `errors`. Stops early on abort.
 void SampleReceivers(vtkPenumbraRadianceEvaluator* self, const std::vector<int>& surfaces,
@@ -271,8 +306,13 @@ void AssembleSampledMeshes(const std::vector<int>& surfaces,
 
 bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples,
   vtkPolyData* output, double sceneDiagonal,
-  const std::function<RGB(int, const Vec3&)>& evaluatePoint)
+  const std::function<RGB(int, const Vec3&)>& evaluatePoint, SampledSurfaceCache* cache,
+  const std::string& context, int* reused)
 {
+  if (reused)
+  {
+    *reused = 0;
+  }
   vtkDataArray* surfaceIds = samples->GetCellData()->GetArray("SurfaceId");
   vtkDataArray* orders = samples->GetCellData()->GetArray("DiscontinuityOrder");
   vtkDataArray* sources = samples->GetCellData()->GetArray("SourceId");
@@ -317,7 +357,51 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples,
     ShareSampleBudget(receivers, settings.MaximumSamplesPerSurface, self->GetMaximumSamples());
   std::vector<AdaptiveSamplingResult> results(receivers.size());
   std::vector<std::string> errors(receivers.size());
-  SampleReceivers(self, surfaces, receivers, budgets, settings, evaluatePoint, results, errors);
+  // Surfaces sampled before with the same input, budget and context are
+  // taken as they were; the rest are sampled.
+  if (cache && cache->Context != context)
+  {
+    cache->Surfaces.clear();
+    cache->Context = context;
+  }
+  std::vector<std::size_t> todo;
+  for (std::size_t w = 0; w < receivers.size(); ++w)
+  {
+    const auto kept = cache ? cache->Surfaces.find(surfaces[w]) : std::map<int,
+      SampledSurfaceCache::Entry>::iterator();
+    if (cache && kept != cache->Surfaces.end() && kept->second.Budget == budgets[w] &&
+      SameMesh(kept->second.Input, *receivers[w]))
+    {
+      results[w] = kept->second.Result;
+      if (reused)
+      {
+        ++*reused;
+      }
+    }
+    else
+    {
+      todo.push_back(w);
+    }
+  }
+  {
+    std::vector<int> todoSurfaces, todoBudgets;
+    std::vector<const ReceiverMesh*> todoReceivers;
+    for (const std::size_t w : todo)
+    {
+      todoSurfaces.push_back(surfaces[w]);
+      todoReceivers.push_back(receivers[w]);
+      todoBudgets.push_back(budgets[w]);
+    }
+    std::vector<AdaptiveSamplingResult> sampled(todo.size());
+    std::vector<std::string> failed(todo.size());
+    SampleReceivers(self, todoSurfaces, todoReceivers, todoBudgets, settings, evaluatePoint,
+      sampled, failed);
+    for (std::size_t k = 0; k < todo.size(); ++k)
+    {
+      results[todo[k]] = std::move(sampled[k]);
+      errors[todo[k]] = std::move(failed[k]);
+    }
+  }
   if (self->GetAbortExecute())
   {
     output->Initialize();
@@ -330,6 +414,13 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples,
       output->Initialize();
       vtkErrorWithObjectMacro(self, << "surface " << surfaces[w] << ": " << errors[w]);
       return false;
+    }
+  }
+  if (cache)
+  {
+    for (std::size_t w = 0; w < receivers.size(); ++w)
+    {
+      cache->Surfaces[surfaces[w]] = { *receivers[w], budgets[w], results[w] };
     }
   }
   // Where the budget stopped the refinement the tolerance is not met: the

@@ -362,10 +362,25 @@ int vtkPenumbraRadianceEvaluator::Execute(
   const PointRadiance evaluatePoint(prepared, shooters, functions, surfaceOf,
     this->Method == RAY_CAST, this->RayCastTolerance, this->IncludeEmission);
 
+  this->ReusedSurfaces = 0;
   if (this->AdaptiveSampling && samples->GetNumberOfPolys() > 0)
   {
+    // What the kept results depend on besides each surface's input mesh.
+    std::ostringstream context;
+    context.precision(17);
+    context << this->Method << " " << this->RayCastTolerance << " " << this->IncludeEmission << " "
+            << this->SamplingTolerance << " " << this->MaximumSamplesPerSurface << " "
+            << this->MaximumSamples << " " << this->MaximumSampleSpacing << " "
+            << this->MinimumFeatureSize << " " << prepared.get() << " " << sceneData
+            << " " << sceneData->GetMTime() << " " << shooterData << " "
+            << (shooterData ? shooterData->GetMTime() : 0) << " shooters";
+    for (const int id : shooters)
+    {
+      context << " " << id;
+    }
     if (!penumbra::SampleAdaptively(this, samples, output, sceneData->GetLength(),
-          [&](int i, const penumbra::Vec3& x) { return evaluatePoint(i, x); }))
+          [&](int i, const penumbra::Vec3& x) { return evaluatePoint(i, x); }, this->Reuse.get(),
+          context.str(), &this->ReusedSurfaces))
     {
       return 0;
     }
@@ -382,6 +397,25 @@ int vtkPenumbraRadianceEvaluator::Execute(
     penumbra::AddSurfaceMaterials(output->GetFieldData(), scene, this->IncludeEmission);
   }
   return 1;
+}
+
+vtkPenumbraRadianceEvaluator::~vtkPenumbraRadianceEvaluator() = default;
+
+void vtkPenumbraRadianceEvaluator::SetReuseUnchangedSurfaces(bool reuse)
+{
+  if (!reuse)
+  {
+    this->Reuse.reset();
+  }
+  else if (!this->Reuse)
+  {
+    this->Reuse.reset(new penumbra::SampledSurfaceCache);
+  }
+}
+
+int vtkPenumbraRadianceEvaluator::GetNumberOfReusedSurfaces() const
+{
+  return this->ReusedSurfaces;
 }
 
 void vtkPenumbraRadianceEvaluator::PrintSelf(ostream& os, vtkIndent indent)
@@ -406,4 +440,6 @@ void vtkPenumbraRadianceEvaluator::PrintSelf(ostream& os, vtkIndent indent)
     os << " " << id;
   }
   os << "\n";
+  os << indent << "ReuseUnchangedSurfaces: " << (this->Reuse ? "On" : "Off")
+     << " (reused by the last execution: " << this->ReusedSurfaces << ")\n";
 }

@@ -58,8 +58,15 @@
 
 #include "vtkPenumbraFiltersModule.h" // for export macro
 #include "vtkPenumbraAlgorithm.h"
+#include "vtkWrappingHints.h" // for VTK_WRAPEXCLUDE
 
+#include <memory> // for std::unique_ptr
 #include <vector> // for std::vector
+
+namespace penumbra
+{
+struct SampledSurfaceCache;
+}
 
 class VTKPENUMBRAFILTERS_EXPORT vtkPenumbraRadianceEvaluator : public vtkPenumbraAlgorithm
 {
@@ -192,6 +199,18 @@ public:
   ///@}
 
   /**
+   * C++ only (vtkPenumbraSolver's second pass for the secondary shooters):
+   * keep what the adaptive sampling gave each surface, and on the next
+   * execution reuse it for every surface whose input mesh and sample budget
+   * are unchanged, the settings, scene and shooters being unchanged too,
+   * instead of sampling it again. The sampling is deterministic, so the
+   * output is the same. Off by default; turning it off drops what was kept.
+   */
+  VTK_WRAPEXCLUDE void SetReuseUnchangedSurfaces(bool reuse);
+  /// C++ only: the surfaces the last execution reused (SetReuseUnchangedSurfaces).
+  VTK_WRAPEXCLUDE int GetNumberOfReusedSurfaces() const;
+
+  /**
    * Connect the scene (input port 1).
    */
   void SetSceneConnection(vtkAlgorithmOutput* output) { this->SetInputConnection(1, output); }
@@ -208,7 +227,7 @@ public:
 
 protected:
   vtkPenumbraRadianceEvaluator();
-  ~vtkPenumbraRadianceEvaluator() override = default;
+  ~vtkPenumbraRadianceEvaluator() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int Execute(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
@@ -225,6 +244,10 @@ protected:
   std::vector<vtkIdType> ShooterIds;
 
 private:
+  /// What the last execution sampled, when reuse is on (else null).
+  std::unique_ptr<penumbra::SampledSurfaceCache> Reuse;
+  int ReusedSurfaces = 0;
+
   vtkPenumbraRadianceEvaluator(const vtkPenumbraRadianceEvaluator&) = delete;
   void operator=(const vtkPenumbraRadianceEvaluator&) = delete;
 };

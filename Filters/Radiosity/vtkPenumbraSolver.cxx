@@ -249,6 +249,9 @@ int vtkPenumbraSolver::Execute(
       // The scene is validated and prepared once, by the mesher.
       evaluator->SetPreparedScene(mesher->GetPreparedScene());
       shooter->SetPreparedScene(mesher->GetPreparedScene());
+      // The secondary shooters' pass changes the meshes of their receivers
+      // only: the evaluator keeps the others' samples and reuses them.
+      evaluator->SetReuseUnchangedSurfaces(this->Indirect);
     }
     if (k == 1 && this->Indirect)
     {
@@ -303,6 +306,7 @@ int vtkPenumbraSolver::Execute(
           return 1;
         }
       }
+      evaluator->SetReuseUnchangedSurfaces(false); // drop what it kept
     }
   }
   output->ShallowCopy(reconstructor->GetOutput());
