@@ -94,7 +94,7 @@ void detail::ComputeTriangleGeometry(const double* const p[3], TriangleGeometry&
     const double* b = p[Prev(i)];
     const double eu = b[0] - a[0];
     const double ev = b[1] - a[1];
-    len[i] = std::hypot(eu, ev);
+    len[i] = std::sqrt(eu * eu + ev * ev); // plane coordinates: no overflow
     g.GradB[i][0] = -ev / g.Area2;
     g.GradB[i][1] = eu / g.Area2;
   }

@@ -301,7 +301,11 @@ void Reconstruction::Internals::SecantBounds(
   std::fill(bounds.begin(), bounds.end(), 0.0);
   for (int q : w.Points)
   {
-    const double d = std::hypot(this->P(q)[0] - pv[0], this->P(q)[1] - pv[1]);
+    // sqrt, not hypot: plane coordinates neither overflow nor underflow
+    // when squared, and this is the fit's hottest loop.
+    const double du = this->P(q)[0] - pv[0];
+    const double dv = this->P(q)[1] - pv[1];
+    const double d = std::sqrt(du * du + dv * dv);
     for (int c = 0; c < this->NC; ++c)
     {
       bounds[c] = std::max(bounds[c], std::abs(this->Value(q, c) - this->Value(v, c)) / d);
