@@ -160,11 +160,11 @@ bool SameMesh(const ReceiverMesh& a, const ReceiverMesh& b)
   return true;
 }
 
-/// Sample every receiver within its budget; a receiver's input error goes
-/// to `errors`. Stops early on abort.
-void SampleReceivers(vtkPenumbraRadianceEvaluator* self, const std::vector<int>& surfaces,
-  const std::vector<const ReceiverMesh*>& receivers, const std::vector<int>& budgets,
-  const AdaptiveSamplingSettings& settings,
+/// Sample the receivers `which` (indices into receivers) within their
+/// budgets; a receiver's input error goes to `errors`. Stops early on abort.
+void SampleReceivers(vtkPenumbraRadianceEvaluator* self, const std::vector<std::size_t>& which,
+  const std::vector<int>& surfaces, const std::vector<const ReceiverMesh*>& receivers,
+  const std::vector<int>& budgets, const AdaptiveSamplingSettings& settings,
   const std::function<RGB(int, const Vec3&)>& evaluatePoint,
   std::vector<AdaptiveSamplingResult>& results, std::vector<std::string>& errors)
 {
@@ -172,11 +172,7 @@ void SampleReceivers(vtkPenumbraRadianceEvaluator* self, const std::vector<int>&
   // sampler's passes run on one thread per receiver; each receiver's batch
   // evaluations run in parallel too, nested). Results are assembled in
   // surface order afterwards, so the output does not depend on scheduling.
-  std::vector<std::size_t> order(receivers.size());
-  for (std::size_t k = 0; k < order.size(); ++k)
-  {
-    order[k] = k;
-  }
+  std::vector<std::size_t> order = which;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return receivers[a]->Triangles.size() > receivers[b]->Triangles.size();
   });
@@ -214,7 +210,7 @@ void SampleReceivers(vtkPenumbraRadianceEvaluator* self, const std::vector<int>&
       // Observers (Python ones included) are only called from the calling thread.
       if (std::this_thread::get_id() == mainThread)
       {
-        self->UpdateProgress(static_cast<double>(done) / receivers.size());
+        self->UpdateProgress(static_cast<double>(done) / order.size());
       }
     }
   });
@@ -358,7 +354,7 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples,
   std::vector<AdaptiveSamplingResult> results(receivers.size());
   std::vector<std::string> errors(receivers.size());
   // Surfaces sampled before with the same input, budget and context are
-  // taken as they were; the rest are sampled.
+  // taken as they were; the rest are sampled, and kept for the next time.
   if (cache && cache->Context != context)
   {
     cache->Surfaces.clear();
@@ -367,12 +363,10 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples,
   std::vector<std::size_t> todo;
   for (std::size_t w = 0; w < receivers.size(); ++w)
   {
-    const auto kept = cache ? cache->Surfaces.find(surfaces[w]) : std::map<int,
-      SampledSurfaceCache::Entry>::iterator();
-    if (cache && kept != cache->Surfaces.end() && kept->second.Budget == budgets[w] &&
-      SameMesh(kept->second.Input, *receivers[w]))
+    const SampledSurfaceCache::Entry* kept = cache ? cache->Find(surfaces[w]) : nullptr;
+    if (kept && kept->Budget == budgets[w] && SameMesh(kept->Input, *receivers[w]))
     {
-      results[w] = kept->second.Result;
+      results[w] = kept->Result;
       if (reused)
       {
         ++*reused;
@@ -383,25 +377,8 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples,
       todo.push_back(w);
     }
   }
-  {
-    std::vector<int> todoSurfaces, todoBudgets;
-    std::vector<const ReceiverMesh*> todoReceivers;
-    for (const std::size_t w : todo)
-    {
-      todoSurfaces.push_back(surfaces[w]);
-      todoReceivers.push_back(receivers[w]);
-      todoBudgets.push_back(budgets[w]);
-    }
-    std::vector<AdaptiveSamplingResult> sampled(todo.size());
-    std::vector<std::string> failed(todo.size());
-    SampleReceivers(self, todoSurfaces, todoReceivers, todoBudgets, settings, evaluatePoint,
-      sampled, failed);
-    for (std::size_t k = 0; k < todo.size(); ++k)
-    {
-      results[todo[k]] = std::move(sampled[k]);
-      errors[todo[k]] = std::move(failed[k]);
-    }
-  }
+  SampleReceivers(
+    self, todo, surfaces, receivers, budgets, settings, evaluatePoint, results, errors);
   if (self->GetAbortExecute())
   {
     output->Initialize();
@@ -418,7 +395,7 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples,
   }
   if (cache)
   {
-    for (std::size_t w = 0; w < receivers.size(); ++w)
+    for (const std::size_t w : todo)
     {
       cache->Surfaces[surfaces[w]] = { *receivers[w], budgets[w], results[w] };
     }
@@ -429,9 +406,9 @@ bool SampleAdaptively(vtkPenumbraRadianceEvaluator* self, vtkPolyData* samples,
   int first = -1;
   for (std::size_t w = 0; w < receivers.size(); ++w)
   {
-    if (results[w].Statistics.BudgetReached)
+    if (results[w].Statistics.BudgetReached && capped++ == 0)
     {
-      first = capped++ == 0 ? surfaces[w] : first;
+      first = surfaces[w];
     }
   }
   if (capped > 0)

@@ -36,6 +36,13 @@ struct SampledSurfaceCache
   };
   std::string Context;
   std::map<int, Entry> Surfaces;
+
+  /// The entry of surface `surface`, or null.
+  const Entry* Find(int surface) const
+  {
+    const auto found = this->Surfaces.find(surface);
+    return found != this->Surfaces.end() ? &found->second : nullptr;
+  }
 };
 
 /**

@@ -51,7 +51,6 @@ std::vector<double> FlatWeights(const SampleSet& samples)
 void SweepTail::Reset()
 {
   this->Vectors.clear();
-  this->Powers.clear();
   this->Coefficients.clear();
   this->Ready = false;
 }
@@ -61,13 +60,12 @@ void SweepTail::Before(const SampleSet& samples)
   if (this->Vectors.empty())
   {
     this->Vectors.push_back(Flatten(samples));
-    this->Powers.push_back(samples.TotalUnshotPower());
+    this->LastPower = samples.TotalUnshotPower();
   }
 }
 
-double SweepTail::Fit(const SampleSet& samples, int count, RGB* coefficients) const
+double SweepTail::Fit(const std::vector<double>& weights, int count, RGB* coefficients) const
 {
-  const std::vector<double> weights = FlatWeights(samples);
   const int n = static_cast<int>(this->Vectors.size());
   const int first = n - 1 - count;
   const std::vector<RGB>& target = this->Vectors[first];
@@ -186,7 +184,7 @@ void SweepTail::Observe(const SampleSet& samples, const ShotRecord& record)
   const bool seen = !this->Vectors.empty();
   if (seen)
   {
-    const RGB before = this->Powers.back();
+    const RGB before = this->LastPower;
     bool usable = true;
     for (int c = 0; c < 3; ++c)
     {
@@ -198,10 +196,9 @@ void SweepTail::Observe(const SampleSet& samples, const ShotRecord& record)
     if (static_cast<int>(this->Vectors.size()) == MaximumVectors)
     {
       this->Vectors.erase(this->Vectors.begin());
-      this->Powers.erase(this->Powers.begin());
     }
     this->Vectors.push_back(Flatten(samples));
-    this->Powers.push_back(power);
+    this->LastPower = power;
     double slowest = 0.0;
     for (int c = 0; c < 3; ++c)
     {
@@ -211,11 +208,12 @@ void SweepTail::Observe(const SampleSet& samples, const ShotRecord& record)
     if (usable && slowest < 1.0)
     {
       // The number of differences whose fit leaves the least error.
+      const std::vector<double> weights = FlatWeights(samples);
       const int available = static_cast<int>(this->Vectors.size()) - 1;
       for (int count = 1; count <= available; ++count)
       {
         RGB coefficients[MaximumVectors];
-        const double error = this->Fit(samples, count, coefficients);
+        const double error = this->Fit(weights, count, coefficients);
         if (error < this->Error)
         {
           this->Error = error;
@@ -233,7 +231,7 @@ void SweepTail::Observe(const SampleSet& samples, const ShotRecord& record)
   else
   {
     this->Vectors.push_back(Flatten(samples));
-    this->Powers.push_back(power);
+    this->LastPower = power;
   }
 }
 

@@ -70,14 +70,15 @@ public:
   RGB Apply(SampleSet& samples, EnergyBookkeeping& energy) const;
 
 private:
-  /// Fit the coefficients to the last `count` differences (per channel);
+  /// Fit the coefficients to the last `count` differences (per channel),
+  /// by area (`weights`: every sample's lumped weight, in vector order);
   /// returns the remaining error of that fit, HUGE_VAL if it fails.
-  double Fit(const SampleSet& samples, int count, RGB* coefficients) const;
+  double Fit(const std::vector<double>& weights, int count, RGB* coefficients) const;
 
   /// Unshot radiance of every sample, surfaces one after the other: the
   /// series' vectors seen, oldest first (at most MaximumVectors).
   std::vector<std::vector<RGB>> Vectors;
-  std::vector<RGB> Powers; ///< their unshot power
+  RGB LastPower; ///< the unshot power of the last vector
   RGB Lambda;
   RGB AbsorbedShare; ///< the last sweep's absorbed / shot power
   RGB EscapedShare;  ///< the last sweep's escaped / shot power
