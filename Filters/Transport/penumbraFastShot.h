@@ -49,6 +49,7 @@ struct FastWorkspace
   std::vector<int> Roots;   ///< nodes each point handles on its own (a receiver cluster's rest)
   std::vector<int> Visible; ///< receiver cluster: visible nodes far from every point
   std::vector<unsigned char> Flags; ///< receiver cluster: per target, the origins that see it
+  PointBatch Batch; ///< receiver cluster: its points, the visible far nodes summed at each
 };
 
 /**

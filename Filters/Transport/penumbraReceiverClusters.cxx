@@ -344,6 +344,27 @@ void ReceiverClusters::Evaluate(const Shot& shot, const ReceiverCluster& cluster
   {
     record->Shared = ws.Visible;
   }
+  else
+  {
+    // The visible far nodes node by node over all the points (vectorised).
+    ws.Batch.Reset(static_cast<std::size_t>(cluster.Count));
+    for (int k = 0; k < cluster.Count; ++k)
+    {
+      const std::pair<int, int>& p = this->Points[cluster.First + k];
+      const Vec3& x = samples.EvaluationPoints[p.first][p.second];
+      const Vec3& n = samples.Polygon(p.first).Normal;
+      ws.Batch.X[k] = x.X;
+      ws.Batch.Y[k] = x.Y;
+      ws.Batch.Z[k] = x.Z;
+      ws.Batch.NX[k] = n.X;
+      ws.Batch.NY[k] = n.Y;
+      ws.Batch.NZ[k] = n.Z;
+    }
+    for (const int id : ws.Visible)
+    {
+      tree.AddIrradiance(tree.Nodes[id], ws.Batch);
+    }
+  }
   for (int k = 0; k < cluster.Count; ++k)
   {
     const std::pair<int, int>& p = this->Points[cluster.First + k];
@@ -370,11 +391,7 @@ void ReceiverClusters::Evaluate(const Shot& shot, const ReceiverCluster& cluster
       out = RGB();
       continue;
     }
-    RGB sum;
-    for (const int id : ws.Visible)
-    {
-      sum += tree.Irradiance(tree.Nodes[id], x, n);
-    }
+    RGB sum(ws.Batch.R[k], ws.Batch.G[k], ws.Batch.B[k]);
     if (!ws.Roots.empty())
     {
       sum += EvaluateFast(shot, x, origin, n, p.first, ws.Roots, caster, ws, rays);

@@ -12,6 +12,64 @@
 namespace penumbra
 {
 
+void BatchCommonNodes(TransportUnit& unit, int count, std::vector<int>& uses, std::vector<int>& batch)
+{
+  if (count < 2 || unit.Nodes.empty())
+  {
+    return;
+  }
+  for (const int id : unit.Nodes)
+  {
+    if (static_cast<std::size_t>(id) >= uses.size())
+    {
+      uses.resize(static_cast<std::size_t>(id) + 1, 0);
+      batch.resize(uses.size(), -1);
+    }
+    ++uses[id];
+  }
+  const std::size_t stride = BatchStride(static_cast<std::size_t>(count));
+  std::vector<int> nodes, nodeEnd;
+  nodes.reserve(unit.Nodes.size());
+  for (int k = 0; k < count; ++k)
+  {
+    for (int i = k == 0 ? 0 : unit.NodeEnd[k - 1]; i < unit.NodeEnd[k]; ++i)
+    {
+      const int id = unit.Nodes[i];
+      if (2 * uses[id] < count)
+      {
+        nodes.push_back(id);
+        continue;
+      }
+      if (batch[id] == -1)
+      {
+        if (uses[id] == count)
+        {
+          batch[id] = -2; // every point's: shared
+          unit.Shared.push_back(id);
+        }
+        else
+        {
+          batch[id] = static_cast<int>(unit.Partial.size());
+          unit.Partial.push_back(id);
+          unit.PartialUse.resize(unit.PartialUse.size() + stride, 0);
+        }
+      }
+      if (batch[id] >= 0)
+      {
+        unit.PartialUse[static_cast<std::size_t>(batch[id]) * stride + k] = 1;
+      }
+    }
+    nodeEnd.push_back(static_cast<int>(nodes.size()));
+  }
+  for (const int id : unit.Nodes)
+  {
+    uses[id] = 0;
+    batch[id] = -1;
+  }
+  unit.Nodes = std::move(nodes);
+  unit.NodeEnd = std::move(nodeEnd);
+}
+
 void RecordedTransport::Prepare(const SampleSet& samples, double openingAngle, double leafSize)
 {
   std::vector<int> all;
@@ -43,12 +101,16 @@ void RecordedTransport::Record(const SampleSet& samples, const ReceiverClusters&
     const std::size_t last = count * (part + 1) / parts;
     RunParallel(loop, last - first, [&](std::size_t begin, std::size_t end) {
       FastWorkspace ws;
+      std::vector<int> uses, batch;
       for (std::size_t c = first + begin; c < first + end; ++c)
       {
         TransportUnit& unit = this->Units[c];
         clusters.Evaluate(
           this->Sweep, clusters.Clusters[c], samples, caster, {}, ws, nullptr, rays[c], &unit);
+        BatchCommonNodes(unit, clusters.Clusters[c].Count, uses, batch);
         unit.Shared.shrink_to_fit();
+        unit.Partial.shrink_to_fit();
+        unit.PartialUse.shrink_to_fit();
         unit.Nodes.shrink_to_fit();
         unit.Near.shrink_to_fit();
       }
@@ -91,10 +153,35 @@ void RecordedTransport::Replay(const SampleSet& samples, const ReceiverClusters&
   }
   const ShooterHierarchy& tree = shot.Hierarchy;
   RunParallel(loop, clusters.Clusters.size(), [&](std::size_t begin, std::size_t end) {
+    PointBatch batch;
     for (std::size_t c = begin; c < end; ++c)
     {
       const ReceiverCluster& cluster = clusters.Clusters[c];
       const TransportUnit& unit = this->Units[c];
+      // The shared and partial nodes node by node over all the points
+      // (vectorised), then each point's own.
+      batch.Reset(static_cast<std::size_t>(cluster.Count));
+      for (int k = 0; k < cluster.Count; ++k)
+      {
+        const std::pair<int, int>& p = clusters.Points[cluster.First + k];
+        const Vec3& x = samples.EvaluationPoints[p.first][p.second];
+        const Vec3& n = samples.Polygon(p.first).Normal;
+        batch.X[k] = x.X;
+        batch.Y[k] = x.Y;
+        batch.Z[k] = x.Z;
+        batch.NX[k] = n.X;
+        batch.NY[k] = n.Y;
+        batch.NZ[k] = n.Z;
+      }
+      for (const int id : unit.Shared)
+      {
+        tree.AddIrradiance(tree.Nodes[id], batch);
+      }
+      for (std::size_t i = 0; i < unit.Partial.size(); ++i)
+      {
+        tree.AddIrradiance(tree.Nodes[unit.Partial[i]], batch,
+          unit.PartialUse.data() + i * BatchStride(cluster.Count));
+      }
       for (int k = 0; k < cluster.Count; ++k)
       {
         const std::pair<int, int>& p = clusters.Points[cluster.First + k];
@@ -106,11 +193,7 @@ void RecordedTransport::Replay(const SampleSet& samples, const ReceiverClusters&
           continue;
         }
         const Vec3& n = samples.Polygon(p.first).Normal;
-        RGB sum;
-        for (const int id : unit.Shared)
-        {
-          sum += tree.Irradiance(tree.Nodes[id], x, n);
-        }
+        RGB sum(batch.R[k], batch.G[k], batch.B[k]);
         for (int i = k == 0 ? 0 : unit.NodeEnd[k - 1]; i < unit.NodeEnd[k]; ++i)
         {
           sum += tree.Irradiance(tree.Nodes[unit.Nodes[i]], x, n);

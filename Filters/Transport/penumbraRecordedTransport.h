@@ -42,11 +42,24 @@ struct NearWeight
 struct TransportUnit
 {
   std::vector<int> Shared;  ///< visible nodes far from every point, expanded at each
-  std::vector<int> Nodes;   ///< visible nodes of each point, one after the other
+  /// Nodes of at least half of the points, expanded at all of them at once
+  /// (the vectorised batch), where PartialUse (BatchStride(Count) flags per
+  /// node) is 1.
+  std::vector<int> Partial;
+  std::vector<unsigned char> PartialUse;
+  std::vector<int> Nodes;   ///< the other visible nodes of each point, one after the other
   std::vector<int> NodeEnd; ///< per point: end of its nodes in Nodes
   std::vector<NearWeight> Near;
   std::vector<int> NearEnd; ///< per point: end of its near leaves in Near
 };
+
+/**
+ * Move the nodes that at least half of the unit's `count` points use from
+ * their per-point lists to Partial (every point's to Shared): a batch over
+ * all the points then costs less than one point at a time. `uses` and
+ * `batch` are scratch indexed by node (grown as needed, left all 0 and -1).
+ */
+void BatchCommonNodes(TransportUnit& unit, int count, std::vector<int>& uses, std::vector<int>& batch);
 
 /// The group shot of every surface, refreshed with the unshot radiance
 /// before each sweep, and what each receiver cluster uses of it.

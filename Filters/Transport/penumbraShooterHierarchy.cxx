@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "penumbraShooterHierarchy.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace penumbra
@@ -364,6 +365,195 @@ RGB ShooterHierarchy::Irradiance(const Node& node, const Vec3& x, const Vec3& n)
     e += Expansion(axis, moments.Power[i], moments.Dipole[i], moments.Quadrupole[i], d, n);
   }
   return e;
+}
+
+void PointBatch::Reset(std::size_t count)
+{
+  this->Count = count;
+  const std::size_t stride = BatchStride(count);
+  // The padding is a point at the origin facing +z, masked out.
+  for (std::vector<double>* v : { &this->X, &this->Y, &this->Z, &this->NX, &this->NY, &this->NZ })
+  {
+    v->assign(stride, 0.0);
+  }
+  std::fill(this->NZ.begin() + static_cast<std::ptrdiff_t>(count), this->NZ.end(), 1.0);
+  for (std::vector<double>* v : { &this->R, &this->G, &this->B })
+  {
+    v->assign(stride, 0.0);
+  }
+  this->All.assign(stride, 0);
+  std::fill(this->All.begin(), this->All.begin() + static_cast<std::ptrdiff_t>(count), 1);
+}
+
+namespace
+{
+
+#if defined(__GNUC__)
+
+/// One block of points' values, and a block of comparison results (the
+/// GCC/Clang vector extension: one register where the processor has
+/// 4-wide vectors, two of 2 on any x86-64).
+typedef double Block __attribute__((vector_size(BatchBlock * sizeof(double))));
+typedef long long Mask __attribute__((vector_size(BatchBlock * sizeof(long long))));
+/// A block of a batch's arrays, read and written in place.
+typedef double BlockInPlace
+  __attribute__((vector_size(BatchBlock * sizeof(double)), aligned(sizeof(double)), may_alias));
+
+inline const BlockInPlace& BlockAt(const double* p)
+{
+  return *reinterpret_cast<const BlockInPlace*>(p);
+}
+
+inline BlockInPlace& BlockAt(double* p)
+{
+  return *reinterpret_cast<BlockInPlace*>(p);
+}
+
+// The batched expansion is most of a sweep's work; with GCC on x86-64 it
+// is built twice and the processor picks: with 4-wide vectors and fused
+// multiply-adds (x86-64-v3), or for any x86-64.
+#if defined(__x86_64__) && !defined(__clang__)
+#define PENUMBRA_VECTOR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define PENUMBRA_VECTOR_CLONES
+#endif
+
+/**
+ * Expansion() at every point of the batch whose `use` flag is 1,
+ * branch-free so that it vectorises: a point behind the centroid's plane
+ * (when `shooterSide`) or with the centroid behind it gets nothing.
+ */
+PENUMBRA_VECTOR_CLONES
+void AddExpansions(const Vec3& m, const RGB& power, const Vec3 dipole[3],
+  const Symmetric quadrupole[3], const Vec3& centroid, bool shooterSide, std::size_t count,
+  const double* __restrict px, const double* __restrict py, const double* __restrict pz,
+  const double* __restrict nx, const double* __restrict ny, const double* __restrict nz,
+  const unsigned char* __restrict use, double* __restrict sr, double* __restrict sg,
+  double* __restrict sb)
+{
+  using Lanes = Block;
+  const double mx = m.X, my = m.Y, mz = m.Z;
+  const Lanes zero = {};
+  for (std::size_t i = 0; i < count; i += BatchBlock)
+  {
+    const Lanes nxi = BlockAt(nx + i), nyi = BlockAt(ny + i), nzi = BlockAt(nz + i);
+    const Lanes dx = centroid.X - BlockAt(px + i);
+    const Lanes dy = centroid.Y - BlockAt(py + i);
+    const Lanes dz = centroid.Z - BlockAt(pz + i);
+    const Lanes a = nxi * dx + nyi * dy + nzi * dz;
+    const Lanes b = -(mx * dx + my * dy + mz * dz);
+    Mask lit = a > 0.0;
+    if (shooterSide)
+    {
+      lit = lit & (b > 0.0);
+    }
+    for (std::size_t k = 0; k < BatchBlock; ++k)
+    {
+      lit[k] = use[i + k] ? lit[k] : 0;
+    }
+    const Lanes inverse = 1.0 / (dx * dx + dy * dy + dz * dz);
+    const Lanes inverse2 = inverse * inverse;
+    const Lanes inverse3 = inverse2 * inverse;
+    const Lanes ab = a * b;
+    const Lanes ux = nxi * b - mx * a;
+    const Lanes uy = nyi * b - my * a;
+    const Lanes uz = nzi * b - mz * a;
+    const Lanes k = ab * inverse2;
+    const Lanes g = 4.0 * ab * inverse3;
+    const Lanes gx = ux * inverse2 - dx * g;
+    const Lanes gy = uy * inverse2 - dy * g;
+    const Lanes gz = uz * inverse2 - dz * g;
+    // The Hessian as Expansion() builds it (Symmetric::AddOuter).
+    const Lanes wn = -2.0 * inverse2;
+    const Lanes wu = -8.0 * inverse3;
+    const Lanes wd = 24.0 * ab * inverse3 * inverse;
+    const Lanes diagonal = -4.0 * ab * inverse3;
+    const Lanes hxx = wn * nxi * mx + wu * ux * dx + wd * dx * dx + diagonal;
+    const Lanes hyy = wn * nyi * my + wu * uy * dy + wd * dy * dy + diagonal;
+    const Lanes hzz = wn * nzi * mz + wu * uz * dz + wd * dz * dz + diagonal;
+    const Lanes hxy = 0.5 * wn * (nxi * my + nyi * mx) + 0.5 * wu * (ux * dy + uy * dx) +
+      0.5 * wd * (dx * dy + dy * dx);
+    const Lanes hxz = 0.5 * wn * (nxi * mz + nzi * mx) + 0.5 * wu * (ux * dz + uz * dx) +
+      0.5 * wd * (dx * dz + dz * dx);
+    const Lanes hyz = 0.5 * wn * (nyi * mz + nzi * my) + 0.5 * wu * (uy * dz + uz * dy) +
+      0.5 * wd * (dy * dz + dz * dy);
+    double* const sums[3] = { sr, sg, sb };
+    for (int c = 0; c < 3; ++c)
+    {
+      const Vec3& d = dipole[c];
+      const Symmetric& q = quadrupole[c];
+      const Lanes e = power[c] * k + (gx * d.X + gy * d.Y + gz * d.Z) +
+        0.5 * (q.XX * hxx + q.YY * hyy + q.ZZ * hzz + 2.0 * (q.XY * hxy + q.XZ * hxz + q.YZ * hyz));
+      BlockAt(sums[c] + i) += lit ? e : zero;
+    }
+  }
+}
+
+#else
+
+/// Expansion() at every point of the batch whose `use` flag is 1 (as
+/// Irradiance() decides), one point at a time.
+void AddExpansions(const Vec3& m, const RGB& power, const Vec3 dipole[3],
+  const Symmetric quadrupole[3], const Vec3& centroid, bool shooterSide, std::size_t count,
+  const double* px, const double* py, const double* pz, const double* nx, const double* ny,
+  const double* nz, const unsigned char* use, double* sr, double* sg, double* sb)
+{
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const Vec3 d = centroid - Vec3(px[i], py[i], pz[i]);
+    const Vec3 n(nx[i], ny[i], nz[i]);
+    if (use[i] && Dot(n, d) > 0.0 && (!shooterSide || -Dot(m, d) > 0.0))
+    {
+      const RGB e = Expansion(m, power, dipole, quadrupole, d, n);
+      sr[i] += e.R;
+      sg[i] += e.G;
+      sb[i] += e.B;
+    }
+  }
+}
+
+#endif
+
+} // namespace
+
+void ShooterHierarchy::AddIrradiance(
+  const Node& node, PointBatch& points, const unsigned char* use) const
+{
+  const std::size_t count = BatchStride(points.Size());
+  use = use ? use : points.All.data();
+  const auto add = [&](const Vec3& m, const RGB& power, const Vec3 dipole[3],
+                     const Symmetric quadrupole[3], bool shooterSide) {
+    AddExpansions(m, power, dipole, quadrupole, node.Centroid, shooterSide, count,
+      points.X.data(), points.Y.data(), points.Z.data(), points.NX.data(), points.NY.data(),
+      points.NZ.data(), use, points.R.data(), points.G.data(), points.B.data());
+  };
+  if (node.Mixed < 0)
+  {
+    add(node.Normal, node.Power, node.Dipole, node.Quadrupole, true);
+    return;
+  }
+  // Leaves facing different ways: the three axes' expansions, summed
+  // before they are added, as Irradiance does.
+  const AxisMoments& moments = this->Moments[node.Mixed];
+  thread_local std::vector<double> sums[3];
+  for (std::vector<double>& v : sums)
+  {
+    v.assign(count, 0.0);
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    const Vec3 axis(i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0);
+    AddExpansions(axis, moments.Power[i], moments.Dipole[i], moments.Quadrupole[i],
+      node.Centroid, false, count, points.X.data(), points.Y.data(), points.Z.data(),
+      points.NX.data(), points.NY.data(), points.NZ.data(), use, sums[0].data(),
+      sums[1].data(), sums[2].data());
+  }
+  for (std::size_t k = 0; k < count; ++k)
+  {
+    points.R[k] += sums[0][k];
+    points.G[k] += sums[1][k];
+    points.B[k] += sums[2][k];
+  }
 }
 
 void ShooterHierarchy::Cut(const Vec3& x, int receiver, double theta,

@@ -206,6 +206,36 @@ inline RGB NonNegative(const RGB& e)
   return { std::max(e.R, 0.0), std::max(e.G, 0.0), std::max(e.B, 0.0) };
 }
 
+/// Points go through the batched expansion in blocks of this many (one
+/// vector register of doubles); batches are padded to whole blocks.
+constexpr std::size_t BatchBlock = 4;
+
+/// `count` rounded up to whole blocks.
+inline std::size_t BatchStride(std::size_t count)
+{
+  return (count + BatchBlock - 1) / BatchBlock * BatchBlock;
+}
+
+/**
+ * Receiving points in structure-of-arrays form, with the irradiance summed
+ * at each: the expansions of one node at many points at once run as
+ * vector instructions (ShooterHierarchy::AddIrradiance). The arrays hold
+ * BatchStride(Size()) entries; the padding is never used.
+ */
+struct PointBatch
+{
+  std::vector<double> X, Y, Z;    ///< positions
+  std::vector<double> NX, NY, NZ; ///< receiver normals
+  std::vector<double> R, G, B;    ///< irradiance summed so far
+  std::vector<unsigned char> All; ///< 1 for every point, 0 for the padding
+  /// `count` points, their sums zero (positions and normals to be filled).
+  void Reset(std::size_t count);
+  std::size_t Size() const { return this->Count; }
+
+private:
+  std::size_t Count = 0;
+};
+
 /**
  * The hierarchy (a k-d tree) over a shooter's (or a group's) leaves. Fill
  * Origin and Leaves (moments about Origin), then Build.
@@ -224,6 +254,12 @@ struct ShooterHierarchy
   /// The expansion of node's irradiance at x (receiver normal n), 0 when
   /// its centroid is behind the receiver or x behind the centroid's plane.
   RGB Irradiance(const Node& node, const Vec3& x, const Vec3& n) const;
+
+  /// Irradiance(node, x, n) added at every point of `points` (with `use`,
+  /// BatchStride(points.Size()) flags, at those whose flag is 1), term by
+  /// term as Irradiance computes it.
+  void AddIrradiance(
+    const Node& node, PointBatch& points, const unsigned char* use = nullptr) const;
 
   /**
    * The cut of the subtrees rooted at `roots` at x: the nodes (in a fixed
