@@ -323,6 +323,24 @@ void ReceiverClusters::ClusterVisibility(const Shot& shot, const ReceiverCluster
   }
 }
 
+void ReceiverClusters::LoadBatch(
+  const ReceiverCluster& cluster, const SampleSet& samples, PointBatch& batch) const
+{
+  batch.Reset(static_cast<std::size_t>(cluster.Count));
+  for (int k = 0; k < cluster.Count; ++k)
+  {
+    const std::pair<int, int>& p = this->Points[cluster.First + k];
+    const Vec3& x = samples.EvaluationPoints[p.first][p.second];
+    const Vec3& n = samples.Polygon(p.first).Normal;
+    batch.X[k] = x.X;
+    batch.Y[k] = x.Y;
+    batch.Z[k] = x.Z;
+    batch.NX[k] = n.X;
+    batch.NY[k] = n.Y;
+    batch.NZ[k] = n.Z;
+  }
+}
+
 void ReceiverClusters::Evaluate(const Shot& shot, const ReceiverCluster& cluster,
   const SampleSet& samples, const RayCaster& caster, const std::vector<long long>& firstItem,
   FastWorkspace& ws, RGB* irradiance, long long& rays, TransportUnit* record) const
@@ -347,19 +365,7 @@ void ReceiverClusters::Evaluate(const Shot& shot, const ReceiverCluster& cluster
   else
   {
     // The visible far nodes node by node over all the points (vectorised).
-    ws.Batch.Reset(static_cast<std::size_t>(cluster.Count));
-    for (int k = 0; k < cluster.Count; ++k)
-    {
-      const std::pair<int, int>& p = this->Points[cluster.First + k];
-      const Vec3& x = samples.EvaluationPoints[p.first][p.second];
-      const Vec3& n = samples.Polygon(p.first).Normal;
-      ws.Batch.X[k] = x.X;
-      ws.Batch.Y[k] = x.Y;
-      ws.Batch.Z[k] = x.Z;
-      ws.Batch.NX[k] = n.X;
-      ws.Batch.NY[k] = n.Y;
-      ws.Batch.NZ[k] = n.Z;
-    }
+    this->LoadBatch(cluster, samples, ws.Batch);
     for (const int id : ws.Visible)
     {
       tree.AddIrradiance(tree.Nodes[id], ws.Batch);

@@ -74,6 +74,10 @@ struct ReceiverClusters
     const RayCaster& caster, const std::vector<long long>& firstItem, FastWorkspace& ws,
     RGB* irradiance, long long& rays, TransportUnit* record = nullptr) const;
 
+  /// Reset `batch` to the points of `cluster` (positions and receiver
+  /// normals), their sums zero.
+  void LoadBatch(const ReceiverCluster& cluster, const SampleSet& samples, PointBatch& batch) const;
+
 private:
   void Split(const SampleSet& samples, int first, int count, int size);
   ReceiverCluster MakeCluster(const SampleSet& samples, int first, int count, const Vec3& low,

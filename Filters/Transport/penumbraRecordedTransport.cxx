@@ -160,27 +160,15 @@ void RecordedTransport::Replay(const SampleSet& samples, const ReceiverClusters&
       const TransportUnit& unit = this->Units[c];
       // The shared and partial nodes node by node over all the points
       // (vectorised), then each point's own.
-      batch.Reset(static_cast<std::size_t>(cluster.Count));
-      for (int k = 0; k < cluster.Count; ++k)
-      {
-        const std::pair<int, int>& p = clusters.Points[cluster.First + k];
-        const Vec3& x = samples.EvaluationPoints[p.first][p.second];
-        const Vec3& n = samples.Polygon(p.first).Normal;
-        batch.X[k] = x.X;
-        batch.Y[k] = x.Y;
-        batch.Z[k] = x.Z;
-        batch.NX[k] = n.X;
-        batch.NY[k] = n.Y;
-        batch.NZ[k] = n.Z;
-      }
+      clusters.LoadBatch(cluster, samples, batch);
       for (const int id : unit.Shared)
       {
         tree.AddIrradiance(tree.Nodes[id], batch);
       }
+      const std::size_t stride = BatchStride(static_cast<std::size_t>(cluster.Count));
       for (std::size_t i = 0; i < unit.Partial.size(); ++i)
       {
-        tree.AddIrradiance(tree.Nodes[unit.Partial[i]], batch,
-          unit.PartialUse.data() + i * BatchStride(cluster.Count));
+        tree.AddIrradiance(tree.Nodes[unit.Partial[i]], batch, unit.PartialUse.data() + i * stride);
       }
       for (int k = 0; k < cluster.Count; ++k)
       {

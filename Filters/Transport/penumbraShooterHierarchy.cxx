@@ -521,15 +521,18 @@ void ShooterHierarchy::AddIrradiance(
 {
   const std::size_t count = BatchStride(points.Size());
   use = use ? use : points.All.data();
+  // One expansion's terms added to the sums r, g, b.
   const auto add = [&](const Vec3& m, const RGB& power, const Vec3 dipole[3],
-                     const Symmetric quadrupole[3], bool shooterSide) {
+                     const Symmetric quadrupole[3], bool shooterSide, double* r, double* g,
+                     double* b) {
     AddExpansions(m, power, dipole, quadrupole, node.Centroid, shooterSide, count,
       points.X.data(), points.Y.data(), points.Z.data(), points.NX.data(), points.NY.data(),
-      points.NZ.data(), use, points.R.data(), points.G.data(), points.B.data());
+      points.NZ.data(), use, r, g, b);
   };
   if (node.Mixed < 0)
   {
-    add(node.Normal, node.Power, node.Dipole, node.Quadrupole, true);
+    add(node.Normal, node.Power, node.Dipole, node.Quadrupole, true, points.R.data(),
+      points.G.data(), points.B.data());
     return;
   }
   // Leaves facing different ways: the three axes' expansions, summed
@@ -543,9 +546,7 @@ void ShooterHierarchy::AddIrradiance(
   for (int i = 0; i < 3; ++i)
   {
     const Vec3 axis(i == 0 ? 1.0 : 0.0, i == 1 ? 1.0 : 0.0, i == 2 ? 1.0 : 0.0);
-    AddExpansions(axis, moments.Power[i], moments.Dipole[i], moments.Quadrupole[i],
-      node.Centroid, false, count, points.X.data(), points.Y.data(), points.Z.data(),
-      points.NX.data(), points.NY.data(), points.NZ.data(), use, sums[0].data(),
+    add(axis, moments.Power[i], moments.Dipole[i], moments.Quadrupole[i], false, sums[0].data(),
       sums[1].data(), sums[2].data());
   }
   for (std::size_t k = 0; k < count; ++k)
