@@ -4,7 +4,7 @@
 
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Benchmarks/compare_cornell.py [--runs 3]
         [--method discontinuity|standard] [--element-size S] [--quality draft|normal|high]
-        [--dense]
+        [--dense] [--set NAME=VALUE ...]
 
 Solves the built-in Cornell box with penumbra.solve() (median wall time of
 --runs runs), averages the displayed radiance (linear over the output
@@ -14,7 +14,9 @@ wall), the RMS, 99th percentile and maximum of |Penumbra - Mitsuba| relative
 to the sensor's mean reference radiance, over the valid (unmasked) pixels.
 Reference: Benchmarks/reference/cornell_reference.npz (see its README).
 Also draws the signed relative difference per pixel of each sensor into
---out/cornell_error_map.png (default out: build/benchmarks).
+--out/cornell_error_map.png (default out: build/benchmarks). --set passes a
+setting of vtkPenumbraSolver to penumbra.solve by its snake_case name (e.g.
+--set maximum_sample_spacing=0.015625), after --quality's.
 """
 import argparse
 import os
@@ -93,6 +95,9 @@ def main():
                         help="a preset of `penumbra solve --quality` (discontinuity method)")
     parser.add_argument("--dense", action="store_true",
                         help="the dense display (CompactTolerance and CompactIndirectTolerance 0)")
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                        help="a setting of penumbra.solve by its snake_case name, e.g. "
+                        "sampling_tolerance=0.001 (repeatable)")
     parser.add_argument("--reference", default=os.path.join(HERE, "reference", "cornell_reference.npz"))
     parser.add_argument("--out", default=os.path.join(os.path.dirname(HERE), "build", "benchmarks"))
     args = parser.parse_args()
@@ -103,6 +108,9 @@ def main():
         settings = {} if args.element_size is None else {"element_size": args.element_size}
         if args.dense:
             settings.update(compact_tolerance=0.0, compact_indirect_tolerance=0.0)
+        for text in args.set:
+            name, _, value = text.partition("=")
+            settings[name] = int(value) if value.lstrip("-").isdigit() else float(value)
         result = penumbra.solve("cornell", threads=args.threads, method=args.method,
                                 quality=args.quality, **settings)
         times.append(time.perf_counter() - start)

@@ -50,6 +50,7 @@ vtkPenumbraSolver::vtkPenumbraSolver()
   this->JumpThreshold = meshing.JumpThreshold;
   this->SamplingTolerance = evaluation.Sampling.SamplingTolerance;
   this->MaximumSamples = static_cast<vtkIdType>(evaluation.MaximumSamples);
+  this->MaximumSampleSpacing = evaluation.MaximumSampleSpacing;
   this->UnshotFraction = transport.Shooting.UnshotFraction;
   this->ExactPowerFraction = transport.Shooting.ExactPowerFraction;
   this->ReuseTransport = transport.Shooting.ReuseTransport;
@@ -168,6 +169,7 @@ int vtkPenumbraSolver::Execute(
   evaluator->SetSceneData(scene);
   evaluator->SetSamplingTolerance(this->SamplingTolerance);
   evaluator->SetMaximumSamples(this->MaximumSamples);
+  evaluator->SetMaximumSampleSpacing(this->MaximumSampleSpacing);
   vtkNew<vtkPenumbraProgressiveShooter> shooter;
   shooter->SetInputConnection(0, evaluator->GetOutputPort());
   shooter->SetSceneData(scene);
@@ -339,7 +341,9 @@ int vtkPenumbraSolver::Execute(
            << " MaximumIndirectSamples=" << this->MaximumIndirectSamples
            << " ReuseTransport=" << (this->ReuseTransport ? 1 : 0)
            << " SamplingTolerance=" << this->SamplingTolerance
-           << " MaximumSamples=" << this->MaximumSamples << " MinimumAngle=" << this->MinimumAngle
+           << " MaximumSamples=" << this->MaximumSamples
+           << " MaximumSampleSpacing=" << this->MaximumSampleSpacing
+           << " MinimumAngle=" << this->MinimumAngle
            << " JumpThreshold=" << this->JumpThreshold
            << " SubdivisionLevel=" << this->SubdivisionLevel
            << " DisplayTolerance=" << this->DisplayTolerance
@@ -364,6 +368,7 @@ void vtkPenumbraSolver::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ReuseTransport: " << (this->ReuseTransport ? "On" : "Off") << "\n";
   os << indent << "SamplingTolerance: " << this->SamplingTolerance << "\n";
   os << indent << "MaximumSamples: " << this->MaximumSamples << "\n";
+  os << indent << "MaximumSampleSpacing: " << this->MaximumSampleSpacing << "\n";
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
   os << indent << "JumpThreshold: " << this->JumpThreshold << "\n";
   os << indent << "DisplayTolerance: " << this->DisplayTolerance << "\n";

@@ -92,6 +92,19 @@ public:
 
   ///@{
   /**
+   * Longest sample-triangle edge, as a fraction of the scene's bounding-box
+   * diagonal: the resolution of light that arrives by interreflection where
+   * the direct light is even (vtkPenumbraRadianceEvaluator::
+   * MaximumSampleSpacing). Default 1/32, range [0, 1]; 0 = no limit. The
+   * `high` quality preset halves it (Documentation/benchmarks.md, "Quality
+   * presets").
+   */
+  vtkSetClampMacro(MaximumSampleSpacing, double, 0.0, 1.0);
+  vtkGetMacro(MaximumSampleSpacing, double);
+  ///@}
+
+  ///@{
+  /**
    * Largest number of samples the interreflections are computed at; larger
    * inputs shoot on a coarse level and interpolate the indirect light onto
    * every sample (vtkPenumbraProgressiveShooter::MaximumIndirectSamples). Default
@@ -204,6 +217,7 @@ protected:
   double ExactPowerFraction;
   double SamplingTolerance;
   vtkIdType MaximumSamples;
+  double MaximumSampleSpacing;
   vtkIdType MaximumIndirectSamples;
   bool ReuseTransport;
   double MinimumAngle;

@@ -412,8 +412,8 @@ std::vector<RGB> ProgressiveShooter::Internals::PilotIrradiance(
  * shot can leave the scene) all the shot's power is received or absorbed
  * by the backs of surfaces (record.Backs, estimated by rays). A fast
  * shot's irradiance is then first scaled per channel so that the receivers
- * get Power - Backs: it corrects what the fast method's expansions and
- * visibility per node lose or add (by at most MaximumConservationCorrection;
+ * get Power - Backs: it corrects what the discretisation of the receivers
+ * and shooters loses (by at most MaximumConservationCorrection;
  * not when a receiver is on a coarse level's lattice), or, when some
  * receivers are Uniform, whose one value errs more, what those receivers
  * lose or add (by at most MaximumCoarseCorrection; the others are left as

@@ -55,8 +55,8 @@ def test_quality_presets_and_tolerance_reach_the_solver(tmp_path):
                               "--threads", "2")
         assert result.returncode == 0, result.stderr
         text = _info(out)
-        tolerance = QUALITY_PRESETS[quality]["SamplingTolerance"]
-        assert re.search(r"SamplingTolerance=%g\b" % tolerance, text), text
+        for name, value in QUALITY_PRESETS[quality].items():
+            assert re.search(r"\b%s=%g\b" % (name, value), text), (name, text)
         counts[quality] = int(re.search(r"exact evaluations \(direct light\): (\d+)",
                                         text).group(1))
     assert counts["high"] > 1.2 * counts["draft"], counts

@@ -263,7 +263,7 @@ def _in_range(setting):
 
 # The presets' measured cost and accuracy (Benchmarks/compare_cornell.py --quality;
 # figures in Documentation/benchmarks.md).
-QUALITY_MEASURED = ("draft 2.2 s, floor 0.63% RMS; normal 3.5 s, 0.45%; high 5.9 s, 0.44% "
+QUALITY_MEASURED = ("draft 1.6 s, floor 0.46% RMS; normal 2.4 s, 0.49%; high 5.2 s, 0.37% "
                     "against a path-traced reference")
 
 

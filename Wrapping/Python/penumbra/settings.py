@@ -27,9 +27,9 @@ FILTERS = (
 #: settings by name; "normal" is the filters' defaults. Measured on the Cornell box
 #: in Documentation/benchmarks.md ("Quality presets").
 QUALITY_PRESETS = {
-    "draft": {"SamplingTolerance": 1e-2, "UnshotFraction": 1e-2},
+    "draft": {"SamplingTolerance": 1e-2, "UnshotFraction": 3e-3},
     "normal": {},
-    "high": {"SamplingTolerance": 5e-4, "UnshotFraction": 1e-4},
+    "high": {"MaximumSampleSpacing": 1.0 / 64.0, "UnshotFraction": 1e-4},
 }
 
 
