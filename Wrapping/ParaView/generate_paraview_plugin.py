@@ -25,7 +25,8 @@ from xml.sax.saxutils import escape, quoteattr
 # Settings of vtkPenumbraSolver shown in the panel, in this order; the others
 # keep their defaults.
 SOLVER_SETTINGS = ("Indirect", "UnshotFraction", "SamplingTolerance", "ExactPowerFraction",
-                   "MaximumIndirectSamples", "MaximumSamples", "SecondaryShooterFraction",
+                   "MaximumIndirectSamples", "MaximumSamples", "MaximumSampleSpacing",
+                   "SecondaryShooterFraction",
                    "ReuseTransport", "MinimumAngle", "DisplayTolerance", "CompactTolerance",
                    "CompactIndirectTolerance", "SubdivisionLevel")
 METHODS = ("discontinuity", "standard")
