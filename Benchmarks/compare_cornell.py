@@ -30,6 +30,7 @@ from vtkmodules.vtkCommonCore import mutable, vtkIdList
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkGenericCell, vtkPolyData, vtkStaticCellLocator
 
 import penumbra
+from penumbra.settings import parse
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -108,9 +109,7 @@ def main():
         settings = {} if args.element_size is None else {"element_size": args.element_size}
         if args.dense:
             settings.update(compact_tolerance=0.0, compact_indirect_tolerance=0.0)
-        for text in args.set:
-            name, _, value = text.partition("=")
-            settings[name] = int(value) if value.lstrip("-").isdigit() else float(value)
+        settings.update(parse("vtkPenumbraSolver", text) for text in args.set)
         result = penumbra.solve("cornell", threads=args.threads, method=args.method,
                                 quality=args.quality, **settings)
         times.append(time.perf_counter() - start)

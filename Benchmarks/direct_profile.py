@@ -133,18 +133,17 @@ def band_points(band, count, seed=11):
 
 
 def apply_settings(stages, settings):
-    """Set each Name=value on every stage that has a SetName."""
+    """Set each Name=value on every stage that has a SetName (the value read
+    as that filter's setting: its type and range)."""
+    from penumbra.settings import parse
+
     for text in settings:
-        name, _, value = text.partition("=")
-        number = int(value) if value.lstrip("-").isdigit() else float(value)
-        found = False
-        for stage in stages.values():
-            setter = getattr(stage, "Set" + name, None)
-            if setter is not None:
-                setter(number)
-                found = True
-        if not found:
+        name = text.partition("=")[0].strip()
+        targets = [stage for stage in stages.values() if hasattr(stage, "Set" + name)]
+        if not targets:
             raise SystemExit("--set %s: no stage has a setting %s" % (text, name))
+        for stage in targets:
+            getattr(stage, "Set" + name)(parse(stage.GetClassName(), text)[1])
 
 
 def staged_solve(scene, settings=()):
